@@ -1,0 +1,196 @@
+//! Heavy data that flows through the graph behind an `Arc`: meshes, skin weights and curves.
+//!
+//! These are plain data types with no behaviour beyond validation and cheap
+//! helpers; deformers and other plugins in `sinew-nodes` do the work. Positions
+//! and normals are `f32` (the precision of glTF and of GPU skinning); curves are
+//! `f64` because they live in the authoring path.
+
+use glam::{DVec3, Vec2, Vec3};
+
+/// A triangle mesh: positions, optional per-vertex normals and UVs, and triangles.
+///
+/// `normals` and `uvs` are either empty or exactly as long as `positions`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    /// Vertex positions in object space.
+    pub positions: Vec<Vec3>,
+    /// Per-vertex unit normals (empty when the mesh has none).
+    pub normals: Vec<Vec3>,
+    /// Per-vertex texture coordinates (empty when the mesh has none).
+    pub uvs: Vec<Vec2>,
+    /// Triangles as three vertex indices each, counter-clockwise when seen from the front.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+impl Mesh {
+    /// Number of vertices.
+    pub fn vertex_count(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// Checks the invariants: attribute lengths match and every index is in range.
+    ///
+    /// Returns a message naming the first problem and how to fix it.
+    pub fn validate(&self) -> Result<(), String> {
+        let n = self.positions.len();
+        if !self.normals.is_empty() && self.normals.len() != n {
+            return Err(format!(
+                "mesh has {n} positions but {} normals; give one normal per vertex or none",
+                self.normals.len()
+            ));
+        }
+        if !self.uvs.is_empty() && self.uvs.len() != n {
+            return Err(format!(
+                "mesh has {n} positions but {} uvs; give one uv per vertex or none",
+                self.uvs.len()
+            ));
+        }
+        for (t, tri) in self.triangles.iter().enumerate() {
+            if let Some(&bad) = tri.iter().find(|&&i| i as usize >= n) {
+                return Err(format!(
+                    "triangle {t} uses vertex {bad} but the mesh has only {n} vertices"
+                ));
+            }
+        }
+        if let Some(i) = self.positions.iter().position(|p| !p.is_finite()) {
+            return Err(format!("vertex {i} has a non-finite position"));
+        }
+        Ok(())
+    }
+
+    /// Recomputes smooth area-weighted vertex normals from the triangles.
+    ///
+    /// Vertices touched by no triangle (or only by degenerate ones) get `+Y`.
+    pub fn recompute_normals(&mut self) {
+        let mut acc = vec![Vec3::ZERO; self.positions.len()];
+        for tri in &self.triangles {
+            let [a, b, c] = tri.map(|i| i as usize);
+            if a >= acc.len() || b >= acc.len() || c >= acc.len() {
+                continue;
+            }
+            let (pa, pb, pc) = (self.positions[a], self.positions[b], self.positions[c]);
+            let n = (pb - pa).cross(pc - pa);
+            acc[a] += n;
+            acc[b] += n;
+            acc[c] += n;
+        }
+        self.normals = acc.into_iter().map(|n| n.try_normalize().unwrap_or(Vec3::Y)).collect();
+    }
+}
+
+/// Sparse skin weights in compressed-row form: vertex `v` has influences
+/// `joints[offsets[v]..offsets[v + 1]]` with weights `weights[same range]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Weights {
+    /// `vertex_count + 1` offsets into `joints`/`weights`, starting at 0, non-decreasing.
+    pub offsets: Vec<u32>,
+    /// Influence (joint) index of each entry.
+    pub joints: Vec<u32>,
+    /// Weight of each entry.
+    pub weights: Vec<f32>,
+}
+
+impl Default for Weights {
+    fn default() -> Self {
+        Weights {
+            offsets: vec![0],
+            joints: Vec::new(),
+            weights: Vec::new(),
+        }
+    }
+}
+
+impl Weights {
+    /// Builds weights from one list of `(joint, weight)` pairs per vertex.
+    pub fn from_lists<I, L>(per_vertex: I) -> Self
+    where
+        I: IntoIterator<Item = L>,
+        L: IntoIterator<Item = (u32, f32)>,
+    {
+        let mut w = Weights::default();
+        for list in per_vertex {
+            for (j, x) in list {
+                w.joints.push(j);
+                w.weights.push(x);
+            }
+            w.offsets.push(w.joints.len() as u32);
+        }
+        w
+    }
+
+    /// Number of vertices these weights cover.
+    pub fn vertex_count(&self) -> usize {
+        self.offsets.len().saturating_sub(1)
+    }
+
+    /// The influences of vertex `v` as parallel slices (joints, weights).
+    ///
+    /// Out-of-range vertices have no influences.
+    pub fn influences(&self, v: usize) -> (&[u32], &[f32]) {
+        match (self.offsets.get(v), self.offsets.get(v + 1)) {
+            (Some(&a), Some(&b)) if a <= b && (b as usize) <= self.joints.len() => {
+                let r = a as usize..b as usize;
+                (&self.joints[r.clone()], &self.weights[r])
+            }
+            _ => (&[], &[]),
+        }
+    }
+
+    /// Checks the compressed-row invariants and that weights are finite.
+    pub fn validate(&self) -> Result<(), String> {
+        if self.offsets.first() != Some(&0) {
+            return Err("weights offsets must start at 0".into());
+        }
+        if self.joints.len() != self.weights.len() {
+            return Err(format!(
+                "weights have {} joint indices but {} weights; they must be parallel",
+                self.joints.len(),
+                self.weights.len()
+            ));
+        }
+        if self.offsets.windows(2).any(|w| w[0] > w[1]) {
+            return Err("weights offsets must not decrease".into());
+        }
+        if self.offsets.last().copied().unwrap_or(0) as usize != self.joints.len() {
+            return Err("the last weights offset must equal the number of entries".into());
+        }
+        if let Some(i) = self.weights.iter().position(|w| !w.is_finite()) {
+            return Err(format!("weight entry {i} is not finite"));
+        }
+        Ok(())
+    }
+}
+
+/// Whether a curve is open or closed (periodic).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CurveForm {
+    /// An open curve that starts at its first and ends at its last control point (clamped knots).
+    #[default]
+    Open,
+    /// A periodic closed curve.
+    Periodic,
+}
+
+/// A non-rational B-spline curve (Maya's nurbsCurve with all weights 1).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Curve {
+    /// Polynomial degree (1 = polyline, 3 = cubic).
+    pub degree: u32,
+    /// Control points.
+    pub points: Vec<DVec3>,
+    /// Knot vector of length `points.len() + degree + 1`; empty means uniform clamped.
+    pub knots: Vec<f64>,
+    /// Open or periodic.
+    pub form: CurveForm,
+}
+
+impl Default for Curve {
+    fn default() -> Self {
+        Curve {
+            degree: 3,
+            points: Vec::new(),
+            knots: Vec::new(),
+            form: CurveForm::Open,
+        }
+    }
+}

@@ -1,0 +1,401 @@
+//! Connections between plugs, plug-level cycle detection, and DAG parenting.
+//!
+//! The dependency graph used for cycles is at attribute granularity: a
+//! connection is an edge from its source attribute to its destination
+//! attribute, and inside a node each input has an edge to every output it
+//! affects (per the spec). Node-level loops are fine as long as this graph
+//! stays acyclic, exactly as in Maya.
+
+use std::collections::HashSet;
+
+use super::{Graph, NodeId, Plug};
+use crate::error::{Error, Result};
+use crate::spec::{AttrId, Direction};
+use crate::value::Value;
+
+impl Graph {
+    /// Connects `src` to `dst` (an input). Fails without changing anything when
+    /// the types differ, `dst` is an output or already driven, or the
+    /// connection would close a plug-level cycle (the error lists the cycle).
+    pub fn connect(&mut self, src: Plug, dst: Plug) -> Result<()> {
+        self.check_plug_shape(src)?;
+        self.check_plug_shape(dst)?;
+        let dst_spec = self.data(dst.node)?.spec();
+        if dst_spec.attr(dst.attr).direction != Direction::Input {
+            return Err(Error::ConnectToOutput {
+                dst: self.plug_name(dst),
+            });
+        }
+        let (st, dt) = (self.plug_type(src)?, self.plug_type(dst)?);
+        if !st.connects_to(dt) {
+            return Err(Error::ConnectTypeMismatch {
+                src: self.plug_name(src),
+                src_type: st,
+                dst: self.plug_name(dst),
+                dst_type: dt,
+            });
+        }
+        if let Some(existing) = self.driver_conflict(dst) {
+            return Err(Error::AlreadyConnected {
+                dst: self.plug_name(dst),
+                existing: self.plug_name(existing),
+            });
+        }
+        if let Some(path) = self.dependency_path((dst.node, dst.attr), (src.node, src.attr)) {
+            // path runs dst attr .. src attr; the cycle is src -> dst -> ... -> src.
+            let mut cycle = vec![self.plug_name(src), self.plug_name(dst)];
+            cycle.extend(path.iter().skip(1).map(|&(n, a)| self.attr_path(n, a)));
+            if path.len() == 1 {
+                cycle.push(self.plug_name(src));
+            }
+            return Err(Error::Cycle {
+                src: self.plug_name(src),
+                dst: self.plug_name(dst),
+                cycle,
+            });
+        }
+        // All checks passed: from here on nothing fails.
+        self.link(src, dst);
+        Ok(())
+    }
+
+    /// Connects by paths (see [`Graph::plug`]).
+    pub fn connect_path(&mut self, src: &str, dst: &str) -> Result<()> {
+        let (s, d) = (self.plug(src)?, self.plug(dst)?);
+        self.connect(s, d)
+    }
+
+    /// The existing driver that would conflict with a new connection into `dst`.
+    fn driver_conflict(&self, dst: Plug) -> Option<Plug> {
+        let data = self.nodes.get(dst.node)?;
+        let store = &data.attrs[dst.attr.index()];
+        let e = &store.elems[store.find(dst.elem())?];
+        if let Some(s) = e.source {
+            return Some(s);
+        }
+        let cs = e.comp_sources.as_ref()?;
+        match dst.component {
+            Some(k) => cs[k as usize],
+            None => cs.iter().flatten().next().copied(),
+        }
+    }
+
+    /// A path of attributes from `from` to `to` following dependencies, if any.
+    pub(crate) fn dependency_path(
+        &self,
+        from: (NodeId, AttrId),
+        to: (NodeId, AttrId),
+    ) -> Option<Vec<(NodeId, AttrId)>> {
+        if from == to {
+            return Some(vec![from]);
+        }
+        let mut seen: HashSet<(NodeId, AttrId)> = HashSet::new();
+        // Depth-first with explicit stack of (node-attr, parent index in `trail`).
+        let mut trail: Vec<((NodeId, AttrId), usize)> = vec![(from, usize::MAX)];
+        let mut stack = vec![0usize];
+        seen.insert(from);
+        while let Some(i) = stack.pop() {
+            let (cur, _) = trail[i];
+            for next in self.dependents(cur) {
+                if !seen.insert(next) {
+                    continue;
+                }
+                trail.push((next, i));
+                if next == to {
+                    let mut path = Vec::new();
+                    let mut k = trail.len() - 1;
+                    while k != usize::MAX {
+                        path.push(trail[k].0);
+                        k = trail[k].1;
+                    }
+                    path.reverse();
+                    return Some(path);
+                }
+                stack.push(trail.len() - 1);
+            }
+        }
+        None
+    }
+
+    /// Attributes that directly depend on `(node, attr)`.
+    fn dependents(&self, (node, attr): (NodeId, AttrId)) -> Vec<(NodeId, AttrId)> {
+        let Some(data) = self.nodes.get(node) else {
+            return Vec::new();
+        };
+        let spec = data.spec();
+        let mut out = Vec::new();
+        if spec.attr(attr).is_input() {
+            for &g in spec.groups_affected_by(attr) {
+                out.extend(spec.groups()[g as usize].outputs.iter().map(|&o| (node, o)));
+            }
+        }
+        for e in &data.attrs[attr.index()].elems {
+            out.extend(e.dests.iter().map(|d| (d.node, d.attr)));
+        }
+        out
+    }
+
+    /// Adds the connection to both ends' bookkeeping (no checks).
+    pub(crate) fn link(&mut self, src: Plug, dst: Plug) {
+        let rev = self.bump();
+        let src_default = self.nodes[src.node].spec().attr(src.attr).default.clone();
+        let src_created = self.nodes[src.node].attrs[src.attr.index()]
+            .ensure(src.elem(), || src_default)
+            .1;
+        if src_created {
+            // A new output element must be filled by its node's next compute.
+            let n = &mut self.nodes[src.node];
+            if let Some(g) = n.spec().group_of(src.attr) {
+                n.groups[g as usize].force = true;
+                n.groups[g as usize].dirty = true;
+            }
+            self.push_dirty(src.node, src.attr);
+        }
+        let k = self.nodes[src.node].attrs[src.attr.index()]
+            .find(src.elem())
+            .unwrap_or(0);
+        if let Some(e) = self.nodes[src.node].attrs[src.attr.index()].elems.get_mut(k) {
+            e.dests.push(dst);
+        }
+        let dst_data = &mut self.nodes[dst.node];
+        let default = dst_data.spec().attr(dst.attr).default.clone();
+        let store = &mut dst_data.attrs[dst.attr.index()];
+        let (k, _) = store.ensure(dst.elem(), || default);
+        let e = &mut store.elems[k];
+        match dst.component {
+            None => e.source = Some(src),
+            Some(c) => {
+                e.comp_sources.get_or_insert_with(|| Box::new([None; 3]))[c as usize] = Some(src);
+            }
+        }
+        e.changed_at = rev;
+        let kind = dst_data.kind.clone();
+        for &g in kind.spec().groups_affected_by(dst.attr) {
+            dst_data.groups[g as usize].force = true;
+        }
+        self.push_dirty(dst.node, dst.attr);
+    }
+
+    /// Disconnects `src` from `dst`. The destination keeps the value it had
+    /// (its source is evaluated first, as Maya does).
+    pub fn disconnect(&mut self, src: Plug, dst: Plug) -> Result<()> {
+        let connected = self
+            .nodes
+            .get(dst.node)
+            .and_then(|n| n.attrs.get(dst.attr.index()))
+            .and_then(|s| s.find(dst.elem()).map(|k| &s.elems[k]))
+            .is_some_and(|e| match dst.component {
+                None => e.source == Some(src),
+                Some(c) => e.comp_sources.as_ref().is_some_and(|cs| cs[c as usize] == Some(src)),
+            });
+        if !connected {
+            return Err(Error::NotConnected {
+                src: self.plug_name(src),
+                dst: self.plug_name(dst),
+            });
+        }
+        // Bring the destination up to date so it keeps the current value; a
+        // failing upstream compute leaves the last value in place.
+        let _ = self.get(dst.whole());
+        self.unlink(src, dst);
+        Ok(())
+    }
+
+    /// Disconnects by paths.
+    pub fn disconnect_path(&mut self, src: &str, dst: &str) -> Result<()> {
+        let (s, d) = (self.plug(src)?, self.plug(dst)?);
+        self.disconnect(s, d)
+    }
+
+    /// Removes the connection from both ends' bookkeeping (no checks).
+    pub(crate) fn unlink(&mut self, src: Plug, dst: Plug) {
+        if let Some(s) = self.nodes.get_mut(src.node) {
+            let store = &mut s.attrs[src.attr.index()];
+            if let Some(k) = store.find(src.elem()) {
+                if let Some(pos) = store.elems[k].dests.iter().position(|d| *d == dst) {
+                    store.elems[k].dests.remove(pos);
+                }
+            }
+        }
+        let rev = self.bump();
+        if let Some(d) = self.nodes.get_mut(dst.node) {
+            let store = &mut d.attrs[dst.attr.index()];
+            if let Some(k) = store.find(dst.elem()) {
+                let e = &mut store.elems[k];
+                match dst.component {
+                    None => {
+                        if e.source == Some(src) {
+                            e.source = None;
+                        }
+                    }
+                    Some(c) => {
+                        if let Some(cs) = &mut e.comp_sources {
+                            if cs[c as usize] == Some(src) {
+                                cs[c as usize] = None;
+                            }
+                            if cs.iter().all(|s| s.is_none()) {
+                                e.comp_sources = None;
+                            }
+                        }
+                    }
+                }
+                e.changed_at = rev;
+            }
+            let kind = d.kind.clone();
+            let spec = kind.spec();
+            for &g in spec.groups_affected_by(dst.attr) {
+                d.groups[g as usize].force = true;
+            }
+            if d.parent.is_some() && spec.dag.is_some_and(|dag| dag.parent_matrix == dst.attr) {
+                d.parent = None;
+            }
+            self.push_dirty(dst.node, dst.attr);
+        }
+    }
+
+    /// The plug driving `dst` (the whole-plug source), if any.
+    pub fn source_of(&self, dst: Plug) -> Option<Plug> {
+        let store = self.nodes.get(dst.node)?.attrs.get(dst.attr.index())?;
+        let e = &store.elems[store.find(dst.elem())?];
+        match dst.component {
+            None => e.source,
+            Some(c) => e
+                .source
+                .map(|s| s.component(c))
+                .or_else(|| e.comp_sources.as_ref().and_then(|cs| cs[c as usize])),
+        }
+    }
+
+    /// All connections as `(source, destination)`, in a stable order
+    /// (destination node creation order, then attribute, element, component).
+    pub fn connections(&self) -> Vec<(Plug, Plug)> {
+        let mut out = Vec::new();
+        for id in self.nodes() {
+            let data = &self.nodes[id];
+            let spec = data.spec();
+            for (a, store) in data.attrs.iter().enumerate() {
+                let multi = spec.attrs[a].multi;
+                for e in &store.elems {
+                    let dst = Plug {
+                        node: id,
+                        attr: AttrId(a as u16),
+                        index: multi.then_some(e.index),
+                        component: None,
+                    };
+                    if let Some(s) = e.source {
+                        out.push((s, dst));
+                    }
+                    if let Some(cs) = &e.comp_sources {
+                        for (k, s) in cs.iter().enumerate() {
+                            if let Some(s) = s {
+                                out.push((*s, dst.component(k as u8)));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// Parents `child` under `parent` (or unparents with `None`): connects the
+    /// parent's world matrix to the child's parent matrix, as declared by the
+    /// node types' DAG hookups. Fails without change on a DAG cycle.
+    pub fn set_parent(&mut self, child: NodeId, parent: Option<NodeId>) -> Result<()> {
+        let cd = self.data(child)?;
+        let child_name = cd.name.clone();
+        let Some(cdag) = cd.spec().dag else {
+            return Err(Error::BadParent {
+                child: child_name,
+                parent: parent.and_then(|p| self.node_name(p)).unwrap_or("-").to_string(),
+                reason: format!(
+                    "type {} has no DAG hookup (only transform-like nodes can be parented)",
+                    cd.type_name
+                ),
+            });
+        };
+        let dst = Plug::new(child, cdag.parent_matrix);
+        let current = self.source_of(dst);
+        let Some(parent) = parent else {
+            if let Some(src) = current {
+                self.unlink(src, dst);
+            }
+            if let Some(n) = self.nodes.get_mut(child) {
+                n.parent = None;
+            }
+            return Ok(());
+        };
+        let pd = self.data(parent)?;
+        let parent_name = pd.name.clone();
+        let bad = |reason: String| Error::BadParent {
+            child: child_name.clone(),
+            parent: parent_name.clone(),
+            reason,
+        };
+        let Some(pdag) = pd.spec().dag else {
+            return Err(bad(format!("type {} has no DAG hookup", pd.type_name)));
+        };
+        let mut p = Some(parent);
+        while let Some(x) = p {
+            if x == child {
+                return Err(bad("the parent is the child itself or one of its descendants".into()));
+            }
+            p = self.parent_of(x);
+        }
+        let src = Plug::new(parent, pdag.world_matrix);
+        if let (Some(existing), None) = (current, self.parent_of(child)) {
+            return Err(Error::AlreadyConnected {
+                dst: self.plug_name(dst),
+                existing: self.plug_name(existing),
+            });
+        }
+        if let Some(path) = self.dependency_path((child, cdag.parent_matrix), (parent, pdag.world_matrix)) {
+            let mut cycle: Vec<String> = vec![self.plug_name(src)];
+            cycle.extend(path.iter().map(|&(n, a)| self.attr_path(n, a)));
+            return Err(Error::Cycle {
+                src: self.plug_name(src),
+                dst: self.plug_name(dst),
+                cycle,
+            });
+        }
+        if let Some(existing) = current {
+            self.unlink(existing, dst);
+        }
+        self.link(src, dst);
+        if let Some(n) = self.nodes.get_mut(child) {
+            n.parent = Some(parent);
+        }
+        Ok(())
+    }
+
+    /// `node.attr` for an attribute (no element, no component), for cycle listings.
+    pub(crate) fn attr_path(&self, node: NodeId, attr: AttrId) -> String {
+        self.plug_name(Plug::new(node, attr))
+    }
+
+    /// Reads the value that flows into `plug` from its sources (without
+    /// evaluating them): used by pulls after the sources are clean. Follows
+    /// input-to-input chains and assembles component connections.
+    pub(crate) fn resolve_source_value(&self, plug: Plug) -> Option<Value> {
+        let data = self.nodes.get(plug.node)?;
+        let store = data.attrs.get(plug.attr.index())?;
+        let e = &store.elems[store.find(plug.elem())?];
+        let whole = if let Some(s) = e.source {
+            self.resolve_source_value(s)?
+        } else {
+            let mut value = e.value.clone();
+            if let (Some(cs), Value::Vec3(v)) = (&e.comp_sources, &mut value) {
+                for (k, s) in cs.iter().enumerate() {
+                    if let Some(x) = s.and_then(|s| self.resolve_source_value(s)).and_then(|x| x.as_f64()) {
+                        v[k] = x;
+                    }
+                }
+            }
+            value
+        };
+        match plug.component {
+            Some(k) => whole.component(k).map(Value::Float),
+            None => Some(whole),
+        }
+    }
+}

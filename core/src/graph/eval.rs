@@ -1,0 +1,292 @@
+//! Lazy evaluation: push dirty flags downstream on every change, pull values
+//! on read, with early cutoff.
+//!
+//! Each compute group of each node has a dirty flag and the revision at which
+//! it was last verified. Setting an input stamps it with a new revision and
+//! marks every downstream group dirty (stopping at groups already dirty).
+//! Reading a plug makes its group's upstream clean first (iteratively, no
+//! recursion depth limit), copies source values into the group's connected
+//! inputs, and computes only if some input's value actually changed since
+//! the last verification: a recomputed output equal to its previous value
+//! therefore stops recomputation downstream (early cutoff, as in salsa).
+
+use super::{Graph, NodeId, Plug};
+use crate::error::{Error, Result};
+use crate::node::{ComputeContext, Io, LazyIo, Time};
+use crate::spec::AttrId;
+use crate::value::Value;
+
+/// Counters of lazy evaluation work, for tests and profiling.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct EvalStats {
+    /// Compute calls (one per node group computed).
+    pub computes: u64,
+    /// Dirty groups found unchanged and cleaned without computing.
+    pub cutoffs: u64,
+}
+
+impl Graph {
+    /// Evaluation counters since creation or the last [`Graph::reset_stats`].
+    pub fn stats(&self) -> EvalStats {
+        self.stats
+    }
+
+    /// Resets the evaluation counters.
+    pub fn reset_stats(&mut self) {
+        self.stats = EvalStats::default();
+    }
+
+    /// Marks everything downstream of `(node, attr)` dirty.
+    pub(crate) fn push_dirty(&mut self, node: NodeId, attr: AttrId) {
+        let mut stack = vec![(node, attr)];
+        while let Some((n, a)) = stack.pop() {
+            let Some(data) = self.nodes.get_mut(n) else { continue };
+            let kind = data.kind.clone();
+            let spec = kind.spec();
+            if spec.attr(a).is_input() {
+                for &g in spec.groups_affected_by(a) {
+                    let gs = &mut data.groups[g as usize];
+                    if !gs.dirty {
+                        gs.dirty = true;
+                        stack.extend(spec.groups()[g as usize].outputs.iter().map(|&o| (n, o)));
+                    }
+                }
+            }
+            for e in &data.attrs[a.index()].elems {
+                stack.extend(e.dests.iter().map(|d| (d.node, d.attr)));
+            }
+        }
+    }
+
+    /// Sets the current time; time-dependent nodes become dirty.
+    pub fn set_time(&mut self, time: Time) {
+        if time == self.time {
+            return;
+        }
+        self.time = time;
+        let rev = self.bump();
+        self.time_changed_at = rev;
+        let timed: Vec<NodeId> = self
+            .nodes
+            .iter()
+            .filter(|(_, n)| n.spec().time_dependent)
+            .map(|(id, _)| id)
+            .collect();
+        for n in timed {
+            let kind = self.nodes[n].kind.clone();
+            let spec = kind.spec();
+            for g in 0..spec.groups().len() {
+                let gs = &mut self.nodes[n].groups[g];
+                if !gs.dirty {
+                    gs.dirty = true;
+                    for &o in &spec.groups()[g].outputs {
+                        self.push_dirty(n, o);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Reads a plug, evaluating whatever it depends on that is out of date.
+    ///
+    /// Reading a missing element of a multi output creates it (so its node
+    /// fills it); a missing element of a multi input reads as the default.
+    pub fn get(&mut self, plug: Plug) -> Result<Value> {
+        self.check_plug_shape(plug)?;
+        let data = self.data(plug.node)?;
+        let spec = data.spec();
+        let a = spec.attr(plug.attr);
+        if !a.is_input() {
+            let g = spec.group_of(plug.attr).unwrap_or(0);
+            if data.attrs[plug.attr.index()].find(plug.elem()).is_none() {
+                let default = a.default.clone();
+                let n = &mut self.nodes[plug.node];
+                n.attrs[plug.attr.index()].ensure(plug.elem(), || default);
+                n.groups[g as usize].force = true;
+                n.groups[g as usize].dirty = true;
+            }
+            self.pull_group(plug.node, g)?;
+        } else {
+            if data.attrs[plug.attr.index()].find(plug.elem()).is_none() {
+                let v = a.default.clone();
+                return Ok(match plug.component {
+                    Some(k) => Value::Float(v.component(k).unwrap_or(0.0)),
+                    None => v,
+                });
+            }
+            let mut groups = Vec::new();
+            self.upstream_groups(plug.whole(), &mut groups);
+            for (n, g) in groups {
+                self.pull_group(n, g)?;
+            }
+            self.refresh_input(plug.whole());
+        }
+        self.stored(plug).ok_or_else(|| Error::Stale { what: "plug".into() })
+    }
+
+    /// Reads a plug by path (see [`Graph::plug`]).
+    pub fn get_path(&mut self, path: &str) -> Result<Value> {
+        let plug = self.plug(path)?;
+        self.get(plug)
+    }
+
+    /// Evaluates every group of every node (reporting the first failure).
+    pub fn evaluate_all(&mut self) -> Result<()> {
+        let mut first_error = None;
+        for id in self.nodes() {
+            for g in 0..self.nodes[id].groups.len() {
+                if let Err(e) = self.pull_group(id, g as u16) {
+                    first_error.get_or_insert(e);
+                }
+            }
+        }
+        first_error.map_or(Ok(()), Err)
+    }
+
+    /// Groups that must be clean before the value flowing into `plug` is current.
+    fn upstream_groups(&self, plug: Plug, out: &mut Vec<(NodeId, u16)>) {
+        let Some(data) = self.nodes.get(plug.node) else { return };
+        let spec = data.spec();
+        if !spec.attr(plug.attr).is_input() {
+            if let Some(g) = spec.group_of(plug.attr) {
+                if data.groups[g as usize].dirty {
+                    out.push((plug.node, g));
+                }
+            }
+            return;
+        }
+        let store = &data.attrs[plug.attr.index()];
+        let Some(k) = store.find(plug.elem()) else { return };
+        let e = &store.elems[k];
+        if let Some(s) = e.source {
+            self.upstream_groups(s, out);
+        }
+        if let Some(cs) = &e.comp_sources {
+            for s in cs.iter().flatten() {
+                self.upstream_groups(*s, out);
+            }
+        }
+    }
+
+    /// Copies the value flowing into an input element from its sources,
+    /// stamping it when it changed.
+    fn refresh_input(&mut self, plug: Plug) {
+        let driven = self
+            .nodes
+            .get(plug.node)
+            .and_then(|d| {
+                d.attrs[plug.attr.index()]
+                    .find(plug.elem())
+                    .map(|k| d.attrs[plug.attr.index()].elems[k].is_driven())
+            })
+            .unwrap_or(false);
+        if !driven {
+            return;
+        }
+        let Some(v) = self.resolve_source_value(plug) else {
+            return;
+        };
+        let rev = self.revision;
+        let store = &mut self.nodes[plug.node].attrs[plug.attr.index()];
+        if let Some(k) = store.find(plug.elem()) {
+            let e = &mut store.elems[k];
+            if !e.value.same_bits(&v) {
+                e.value = v;
+                e.changed_at = rev;
+            }
+        }
+    }
+
+    /// Brings group `g` of `node` up to date (no recursion: explicit stack).
+    pub(crate) fn pull_group(&mut self, node: NodeId, g: u16) -> Result<()> {
+        let mut stack: Vec<(NodeId, u16, bool)> = vec![(node, g, false)];
+        let mut deps = Vec::new();
+        while let Some((n, g, exit)) = stack.pop() {
+            let Some(data) = self.nodes.get(n) else { continue };
+            if !data.groups[g as usize].dirty {
+                continue;
+            }
+            let kind = data.kind.clone();
+            let spec = kind.spec();
+            let group = &spec.groups()[g as usize];
+            if !exit {
+                stack.push((n, g, true));
+                deps.clear();
+                for &a in &group.inputs {
+                    let multi = spec.attr(a).multi;
+                    for e in &data.attrs[a.index()].elems {
+                        if e.is_driven() {
+                            let p = Plug {
+                                node: n,
+                                attr: a,
+                                index: multi.then_some(e.index),
+                                component: None,
+                            };
+                            self.upstream_groups(p, &mut deps);
+                        }
+                    }
+                }
+                stack.extend(deps.iter().map(|&(dn, dg)| (dn, dg, false)));
+                continue;
+            }
+            // Upstream is clean: refresh connected inputs, then decide.
+            for &a in &group.inputs {
+                let multi = spec.attr(a).multi;
+                let indices: Vec<u32> = self.nodes[n].attrs[a.index()]
+                    .elems
+                    .iter()
+                    .filter(|e| e.is_driven())
+                    .map(|e| e.index)
+                    .collect();
+                for i in indices {
+                    self.refresh_input(Plug {
+                        node: n,
+                        attr: a,
+                        index: multi.then_some(i),
+                        component: None,
+                    });
+                }
+            }
+            let rev = self.revision;
+            let time_changed_at = self.time_changed_at;
+            let time = self.time;
+            let data = &mut self.nodes[n];
+            let gs = data.groups[g as usize];
+            let changed = gs.force
+                || (spec.time_dependent && time_changed_at > gs.verified_at)
+                || group.inputs.iter().any(|a| {
+                    data.attrs[a.index()]
+                        .elems
+                        .iter()
+                        .any(|e| e.changed_at > gs.verified_at)
+                });
+            if changed {
+                let mut ctx = ComputeContext {
+                    io: Io::Lazy(LazyIo {
+                        attrs: &mut data.attrs,
+                        revision: rev,
+                    }),
+                    spec,
+                    group: g,
+                    time,
+                };
+                let result = kind.compute(&mut ctx);
+                self.stats.computes += 1;
+                if let Err(e) = result {
+                    return Err(Error::Compute {
+                        node: data.name.clone(),
+                        node_type: data.type_name.clone(),
+                        message: e.message,
+                    });
+                }
+            } else {
+                self.stats.cutoffs += 1;
+            }
+            let gs = &mut data.groups[g as usize];
+            gs.dirty = false;
+            gs.force = false;
+            gs.verified_at = rev;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,91 @@
+//! Per-node storage of the lazy graph: one `AttrStore` per attribute, holding
+//! its elements (one for a single attribute, any number for a multi), each
+//! with its value, its change stamp and its connections.
+
+use crate::graph::Plug;
+use crate::value::Value;
+
+/// One plug's state in the lazy graph.
+#[derive(Clone, Debug)]
+pub(crate) struct Elem {
+    /// Logical index (0 for single attributes).
+    pub index: u32,
+    /// Current value: set by hand, copied from the source, or computed.
+    pub value: Value,
+    /// Revision at which `value` last changed.
+    pub changed_at: u64,
+    /// Whole-plug source connection (inputs only).
+    pub source: Option<Plug>,
+    /// Per-component sources of a vec3 input (`translateX` driven alone).
+    pub comp_sources: Option<Box<[Option<Plug>; 3]>>,
+    /// Plugs this plug feeds (whole or component connections from it).
+    pub dests: Vec<Plug>,
+}
+
+impl Elem {
+    pub fn new(index: u32, value: Value) -> Self {
+        Elem {
+            index,
+            value,
+            changed_at: 0,
+            source: None,
+            comp_sources: None,
+            dests: Vec::new(),
+        }
+    }
+
+    /// Whether anything drives this plug (whole or any component).
+    pub fn is_driven(&self) -> bool {
+        self.source.is_some()
+            || self
+                .comp_sources
+                .as_ref()
+                .is_some_and(|c| c.iter().any(|s| s.is_some()))
+    }
+}
+
+/// The elements of one attribute, sorted by logical index.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct AttrStore {
+    pub elems: Vec<Elem>,
+}
+
+impl AttrStore {
+    /// Position of the element with logical index `index`.
+    pub fn find(&self, index: u32) -> Option<usize> {
+        self.elems.binary_search_by_key(&index, |e| e.index).ok()
+    }
+
+    /// Position of the element `index`, inserting it with `value` when missing.
+    /// Returns `(position, created)`.
+    pub fn ensure(&mut self, index: u32, value: impl FnOnce() -> Value) -> (usize, bool) {
+        match self.elems.binary_search_by_key(&index, |e| e.index) {
+            Ok(k) => (k, false),
+            Err(k) => {
+                self.elems.insert(k, Elem::new(index, value()));
+                (k, true)
+            }
+        }
+    }
+}
+
+/// Dirty/verification state of one compute group of one node.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct GroupState {
+    /// Something upstream changed since the last verification.
+    pub dirty: bool,
+    /// Must compute on the next pull, whatever the inputs say.
+    pub force: bool,
+    /// Revision at which the group was last verified or computed.
+    pub verified_at: u64,
+}
+
+impl Default for GroupState {
+    fn default() -> Self {
+        GroupState {
+            dirty: true,
+            force: true,
+            verified_at: 0,
+        }
+    }
+}

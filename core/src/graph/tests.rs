@@ -1,0 +1,294 @@
+//! Tests of the lazy graph: edits, connections, cycles, laziness, cutoff,
+//! and agreement with the compiled program.
+
+use std::sync::Arc;
+
+use glam::DVec3;
+
+use crate::error::Error;
+use crate::graph::Graph;
+use crate::node::Time;
+use crate::program::{CompileOptions, Instance, Program};
+use crate::testing;
+use crate::value::Value;
+
+fn graph() -> Graph {
+    Graph::new(testing::registry().expect("test registry"))
+}
+
+fn f(v: Value) -> f64 {
+    v.as_f64().expect("float")
+}
+
+/// Builds a chain a0 -> a1 -> ... of `add` nodes (output -> input1) with input2 = 1.
+fn chain(g: &mut Graph, n: usize) {
+    for i in 0..n {
+        g.add_node("add", &format!("a{i}")).unwrap();
+        g.set_path(&format!("a{i}.input2"), Value::Float(1.0)).unwrap();
+        if i > 0 {
+            g.connect_path(&format!("a{}.output", i - 1), &format!("a{i}.input1"))
+                .unwrap();
+        }
+    }
+}
+
+#[test]
+fn chain_evaluates_and_is_lazy() {
+    let mut g = graph();
+    chain(&mut g, 5);
+    // a_i.output = i + 1 when a0.input1 = 0 (each node adds 1).
+    assert_eq!(f(g.get_path("a4.output").unwrap()), 5.0);
+    assert_eq!(g.stats().computes, 5);
+    g.reset_stats();
+    // Nothing changed: reading again computes nothing.
+    assert_eq!(f(g.get_path("a4.output").unwrap()), 5.0);
+    assert_eq!(g.stats().computes, 0);
+    // Changing the head recomputes only what the read needs: a0..a2.
+    g.set_path("a0.input1", Value::Float(10.0)).unwrap();
+    assert_eq!(f(g.get_path("a2.output").unwrap()), 13.0);
+    assert_eq!(g.stats().computes, 3);
+}
+
+#[test]
+fn early_cutoff_stops_unchanged_outputs() {
+    let mut g = graph();
+    g.add_node("clampPositive", "c").unwrap();
+    chain(&mut g, 3);
+    g.connect_path("c.output", "a0.input1").unwrap();
+    g.set_path("c.input", Value::Float(-1.0)).unwrap();
+    assert_eq!(f(g.get_path("a2.output").unwrap()), 3.0);
+    g.reset_stats();
+    // -1 -> -2 still clamps to 0: c recomputes, the chain is cut off.
+    g.set_path("c.input", Value::Float(-2.0)).unwrap();
+    assert_eq!(f(g.get_path("a2.output").unwrap()), 3.0);
+    assert_eq!(g.stats().computes, 1);
+    assert_eq!(g.stats().cutoffs, 3);
+}
+
+#[test]
+fn setting_the_same_value_computes_nothing() {
+    let mut g = graph();
+    chain(&mut g, 3);
+    g.get_path("a2.output").unwrap();
+    g.reset_stats();
+    g.set_path("a0.input2", Value::Float(1.0)).unwrap();
+    g.get_path("a2.output").unwrap();
+    assert_eq!(g.stats().computes, 0);
+}
+
+#[test]
+fn plug_cycle_is_rejected_with_the_cycle_listed() {
+    let mut g = graph();
+    chain(&mut g, 3);
+    let err = g.connect_path("a2.output", "a0.input1").unwrap_err();
+    match &err {
+        Error::Cycle { cycle, .. } => {
+            assert_eq!(cycle.first().map(String::as_str), Some("a2.output"));
+            assert_eq!(cycle.last().map(String::as_str), Some("a2.output"));
+            assert!(cycle.contains(&"a0.input1".to_string()));
+            assert!(cycle.contains(&"a1.output".to_string()));
+        }
+        e => panic!("expected a cycle, got {e}"),
+    }
+    assert!(err.to_string().contains("a2.output -> a0.input1"));
+    // The graph is unchanged: a0.input1 is still settable.
+    g.set_path("a0.input1", Value::Float(2.0)).unwrap();
+    assert_eq!(f(g.get_path("a2.output").unwrap()), 5.0);
+}
+
+#[test]
+fn self_loop_is_a_cycle() {
+    let mut g = graph();
+    g.add_node("add", "a").unwrap();
+    assert!(matches!(
+        g.connect_path("a.output", "a.input1"),
+        Err(Error::Cycle { .. })
+    ));
+}
+
+#[test]
+fn node_level_loop_without_plug_cycle_is_allowed() {
+    let mut g = graph();
+    g.add_node("twoGroups", "n").unwrap();
+    // echo depends only on b, so echo -> a closes no plug cycle.
+    g.connect_path("n.echo", "n.a").unwrap();
+    g.set_path("n.b", Value::Float(3.0)).unwrap();
+    assert_eq!(f(g.get_path("n.sum").unwrap()), 6.0);
+    // But sum -> b would: sum depends on b.
+    assert!(matches!(g.connect_path("n.sum", "n.b"), Err(Error::Cycle { .. })));
+    let p = Program::compile(&g, &CompileOptions::default()).unwrap();
+    let mut inst = Instance::new(Arc::new(p));
+    inst.evaluate(Time::default()).unwrap();
+    let h = inst.program().handle("n.sum").unwrap();
+    assert_eq!(inst.get_typed::<f64>(&h), Some(6.0));
+}
+
+#[test]
+fn type_mismatch_and_driven_inputs_are_errors() {
+    let mut g = graph();
+    g.add_node("add", "a").unwrap();
+    g.add_node("vecScale", "v").unwrap();
+    let e = g.connect_path("v.output", "a.input1").unwrap_err();
+    assert!(e.to_string().contains("vec3") && e.to_string().contains("float"), "{e}");
+    let e = g.set_path("a.input1", Value::Vec3(DVec3::ONE)).unwrap_err();
+    assert!(matches!(e, Error::WrongType { .. }));
+    g.connect_path("v.outputX", "a.input1").unwrap();
+    let e = g.set_path("a.input1", Value::Float(1.0)).unwrap_err();
+    assert!(e.to_string().contains("driven by v.outputX"), "{e}");
+    let e = g.set_path("a.output", Value::Float(1.0)).unwrap_err();
+    assert!(matches!(e, Error::NotAnInput { .. }));
+    let e = g.set_path("a.input2", Value::Float(f64::NAN)).unwrap_err();
+    assert!(matches!(e, Error::NonFinite { .. }));
+    let e = g.connect_path("v.outputY", "a.input1").unwrap_err();
+    assert!(matches!(e, Error::AlreadyConnected { .. }));
+}
+
+#[test]
+fn unknown_names_suggest_the_nearest() {
+    let mut g = graph();
+    g.add_node("add", "adder").unwrap();
+    let e = g.add_node("addd", "x").unwrap_err();
+    assert!(e.to_string().contains("did you mean \"add\""), "{e}");
+    let e = g.plug("adder.inptu1").unwrap_err();
+    assert!(e.to_string().contains("did you mean \"input1\""), "{e}");
+    let e = g.plug("addr.input1").unwrap_err();
+    assert!(e.to_string().contains("did you mean \"adder\""), "{e}");
+    assert!(matches!(g.add_node("add", "adder"), Err(Error::DuplicateName { .. })));
+    assert!(matches!(g.add_node("add", "1bad"), Err(Error::InvalidName { .. })));
+}
+
+#[test]
+fn components_connect_both_ways() {
+    let mut g = graph();
+    g.add_node("vecScale", "v").unwrap();
+    g.add_node("vecScale", "w").unwrap();
+    g.add_node("add", "a").unwrap();
+    g.set_path("v.input", Value::Vec3(DVec3::new(1.0, 2.0, 3.0))).unwrap();
+    g.set_path("v.factor", Value::Float(2.0)).unwrap();
+    // a.output = v.outputY + 10 = 4 + 10
+    g.connect_path("v.outputY", "a.input1").unwrap();
+    g.set_path("a.input2", Value::Float(10.0)).unwrap();
+    // w.input = (7, a.output, 9) with only Y driven; factor 1.
+    g.set_path("w.input", Value::Vec3(DVec3::new(7.0, 0.0, 9.0))).unwrap();
+    g.connect_path("a.output", "w.inputY").unwrap();
+    let want = DVec3::new(7.0, 14.0, 9.0);
+    assert!(g.get_path("w.output").unwrap().same_bits(&Value::Vec3(want)));
+    // Setting an undriven component is fine; the driven one is not.
+    g.set_path("w.inputX", Value::Float(1.0)).unwrap();
+    assert!(g.set_path("w.inputY", Value::Float(1.0)).is_err());
+    let p = Arc::new(Program::compile(&g, &CompileOptions::default()).unwrap());
+    let mut inst = Instance::new(p.clone());
+    inst.evaluate(Time::default()).unwrap();
+    let h = p.handle("w.output").unwrap();
+    assert!(inst.get(&h).same_bits(&Value::Vec3(DVec3::new(1.0, 14.0, 9.0))));
+}
+
+#[test]
+fn multi_inputs_and_outputs() {
+    let mut g = graph();
+    g.add_node("sumMulti", "s").unwrap();
+    g.add_node("add", "a").unwrap();
+    g.set_path("s.input[0]", Value::Float(1.0)).unwrap();
+    g.set_path("s.input[5]", Value::Float(2.0)).unwrap();
+    g.set_path("a.input1", Value::Float(4.0)).unwrap();
+    g.connect_path("a.output", "s.input[2]").unwrap();
+    assert_eq!(f(g.get_path("s.output").unwrap()), 7.0);
+    // spread[3] = 7 * 3, created on read.
+    assert_eq!(f(g.get_path("s.spread[3]").unwrap()), 21.0);
+    assert_eq!(
+        g.elements(g.node_id("s").unwrap(), g.plug("s.input[0]").unwrap().attr),
+        vec![0, 2, 5]
+    );
+    assert!(g.plug("s.input").is_err());
+    assert!(g.plug("a.input1[0]").is_err());
+    let p = Arc::new(Program::compile(&g, &CompileOptions::default()).unwrap());
+    let mut inst = Instance::new(p.clone());
+    inst.evaluate(Time::default()).unwrap();
+    assert_eq!(inst.get_typed::<f64>(&p.handle("s.spread[3]").unwrap()), Some(21.0));
+}
+
+#[test]
+fn time_drives_time_dependent_nodes_only() {
+    let mut g = graph();
+    g.add_node("timeSource", "t").unwrap();
+    g.add_node("add", "a").unwrap();
+    g.add_node("add", "still").unwrap();
+    g.connect_path("t.output", "a.input1").unwrap();
+    g.set_path("t.scale", Value::Float(0.5)).unwrap();
+    g.set_time(Time::new(10.0, 24.0));
+    assert_eq!(f(g.get_path("a.output").unwrap()), 5.0);
+    g.get_path("still.output").unwrap();
+    g.reset_stats();
+    g.set_time(Time::new(12.0, 24.0));
+    assert_eq!(f(g.get_path("a.output").unwrap()), 6.0);
+    g.get_path("still.output").unwrap();
+    assert_eq!(g.stats().computes, 2);
+    let p = Program::compile(&g, &CompileOptions::default()).unwrap();
+    assert_eq!(p.frame_step_count(), 2);
+    assert_eq!(p.step_count(), 3);
+}
+
+#[test]
+fn remove_rename_disconnect() {
+    let mut g = graph();
+    chain(&mut g, 3);
+    assert_eq!(f(g.get_path("a2.output").unwrap()), 3.0);
+    g.disconnect_path("a0.output", "a1.input1").unwrap();
+    // a1.input1 keeps the value it had (1), and is settable again.
+    assert_eq!(f(g.get_path("a1.input1").unwrap()), 1.0);
+    g.set_path("a1.input1", Value::Float(5.0)).unwrap();
+    assert_eq!(f(g.get_path("a2.output").unwrap()), 7.0);
+    assert!(g.disconnect_path("a0.output", "a1.input1").is_err());
+    let a1 = g.node_id("a1").unwrap();
+    g.rename_node(a1, "middle").unwrap();
+    assert_eq!(f(g.get_path("middle.output").unwrap()), 6.0);
+    g.remove_node(a1).unwrap();
+    assert_eq!(g.node_count(), 2);
+    assert!(g.connections().is_empty());
+    assert_eq!(f(g.get_path("a2.output").unwrap()), 7.0);
+}
+
+#[test]
+fn compute_errors_name_the_node_and_recover() {
+    let mut g = graph();
+    g.add_node("clampPositive", "c").unwrap();
+    g.add_node("add", "a").unwrap();
+    g.connect_path("c.output", "a.input1").unwrap();
+    g.set_path("c.input", Value::Float(-5000.0)).unwrap();
+    let e = g.get_path("a.output").unwrap_err();
+    assert!(
+        e.to_string().contains("\"c\"") && e.to_string().contains("below -1000"),
+        "{e}"
+    );
+    g.set_path("c.input", Value::Float(3.0)).unwrap();
+    assert_eq!(f(g.get_path("a.output").unwrap()), 3.0);
+}
+
+#[test]
+fn compiled_dynamic_inputs_rerun_only_downstream() {
+    let mut g = graph();
+    chain(&mut g, 4);
+    g.add_node("add", "side").unwrap();
+    let head = g.plug("a0.input1").unwrap();
+    let p = Arc::new(
+        Program::compile(
+            &g,
+            &CompileOptions {
+                dynamic_inputs: vec![head],
+            },
+        )
+        .unwrap(),
+    );
+    assert_eq!(p.frame_step_count(), 4);
+    let mut inst = Instance::new(p.clone());
+    let h_in = p.handle("a0.input1").unwrap();
+    let h_out = p.handle("a3.output").unwrap();
+    inst.evaluate(Time::default()).unwrap();
+    assert_eq!(inst.get_typed::<f64>(&h_out), Some(4.0));
+    inst.set_typed(&h_in, 100.0).unwrap();
+    inst.evaluate(Time::default()).unwrap();
+    assert_eq!(inst.get_typed::<f64>(&h_out), Some(104.0));
+    assert!(inst.set_typed(&p.handle("a3.output").unwrap(), 1.0).is_err());
+    assert!(inst.set_typed(&p.handle("a1.input1").unwrap(), 1.0).is_err());
+    assert!(inst.set(&h_in, Value::Vec3(DVec3::ONE)).is_err());
+}

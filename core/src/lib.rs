@@ -1,0 +1,31 @@
+//! sinew-core: the dependency-graph engine of sinew.
+//!
+//! Values and attribute types ([`Value`], [`AttrType`]), node-type specs and
+//! typed handles ([`NodeSpec`], [`Input`], [`Output`]), the plugin trait
+//! ([`NodeType`]) and its [`ComputeContext`], the [`Registry`], the lazy
+//! [`Graph`] (connections, plug-level cycle detection, push-dirty /
+//! pull-evaluate with early cutoff) and the compiled [`Program`] with its
+//! [`Instance`]s. The core knows no node type by name.
+
+pub mod data;
+pub mod error;
+pub mod graph;
+pub mod node;
+pub mod path;
+pub mod program;
+pub mod registry;
+pub mod spec;
+pub mod testing;
+pub mod value;
+
+pub use data::{Curve, CurveForm, Mesh, Weights};
+pub use error::{ComputeError, Error, Result, SpecError};
+pub use graph::{EvalStats, Graph, NodeId, Plug};
+pub use node::{ComputeContext, NodeType, Time};
+pub use program::{evaluate_batch, CompileOptions, Instance, PlugHandle, Program};
+pub use registry::Registry;
+pub use spec::{
+    AttrId, AttrSpec, ComputeGroup, DagSpec, Direction, Input, MultiInput, MultiOutput, NodeSpec, Output, SpecBuilder,
+    Unit,
+};
+pub use value::{AttrType, AttrValue, SharedData, Value};

@@ -1,0 +1,714 @@
+//! The compiled schedule: a graph flattened into a topologically ordered list
+//! of compute steps over dense value slots, and instances that own only their
+//! slot values so many can share one program and run in parallel.
+//!
+//! Compiling resolves every connection once: a connected input reads its
+//! source's slot directly (no copy), a component connection reads one lane
+//! of a vec3 slot, and a vec3 input with per-component connections is
+//! assembled on read. Evaluating a frame walks the steps with no hashing, no
+//! dirty flags and no allocation; only steps downstream of time-dependent
+//! nodes and of inputs declared dynamic re-run per frame. The compute
+//! functions are the very ones the lazy graph calls, so results are
+//! bit-identical.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use rayon::prelude::*;
+
+use crate::error::{nearest, Error, Result};
+use crate::graph::{Graph, NodeId, Plug};
+use crate::node::{CompiledIo, ComputeContext, Io, NodeType, Time};
+use crate::path::{parse_plug_path, resolve_attr, AttrLookupError};
+use crate::spec::{AttrId, Direction, NodeSpec};
+use crate::value::{AttrType, AttrValue, Value};
+
+/// Where one element of an attribute reads or writes its value.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Binding {
+    /// The whole value of a slot.
+    Slot(u32),
+    /// One component of a vec3 slot.
+    Component(u32, u8),
+    /// A vec3 assembled from an own slot and per-component sources (index into `assemblies`).
+    Assemble(u32),
+}
+
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ElemBinding {
+    pub index: u32,
+    pub binding: Binding,
+}
+
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct AttrBinding {
+    pub first: u32,
+    pub len: u32,
+}
+
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Assembly {
+    own: u32,
+    comps: [Option<(u32, Option<u8>)>; 3],
+}
+
+/// Binding tables shared by all steps of a program.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct CompiledTables {
+    pub elems: Vec<ElemBinding>,
+    assemblies: Vec<Assembly>,
+}
+
+fn lane(slots: &[Value], slot: u32, comp: Option<u8>) -> f64 {
+    match (slots.get(slot as usize), comp) {
+        (Some(Value::Vec3(v)), Some(k)) => v[k as usize % 3],
+        (Some(v), None) => v.as_f64().unwrap_or(0.0),
+        _ => 0.0,
+    }
+}
+
+impl CompiledTables {
+    /// The value a binding reads.
+    pub(crate) fn resolve(&self, slots: &[Value], b: Binding) -> Value {
+        match b {
+            Binding::Slot(s) => slots.get(s as usize).cloned().unwrap_or(Value::Float(0.0)),
+            Binding::Component(s, k) => Value::Float(lane(slots, s, Some(k))),
+            Binding::Assemble(a) => {
+                let Some(asm) = self.assemblies.get(a as usize) else {
+                    return Value::Float(0.0);
+                };
+                let mut v = match slots.get(asm.own as usize) {
+                    Some(Value::Vec3(v)) => *v,
+                    _ => glam::DVec3::ZERO,
+                };
+                for (k, c) in asm.comps.iter().enumerate() {
+                    if let Some((s, comp)) = c {
+                        v[k] = lane(slots, *s, *comp);
+                    }
+                }
+                Value::Vec3(v)
+            }
+        }
+    }
+}
+
+struct Step {
+    kind: Arc<dyn NodeType>,
+    node: u32,
+    attr_base: u32,
+    attr_count: u32,
+    group: u16,
+}
+
+/// Options for [`Program::compile`].
+#[derive(Clone, Debug, Default)]
+pub struct CompileOptions {
+    /// Inputs that will be set every frame (controls driven by a game or a UI).
+    /// Steps downstream of them run every frame; setting any other input makes
+    /// the next evaluation run the whole program once.
+    pub dynamic_inputs: Vec<Plug>,
+}
+
+struct NodeEntry {
+    name: String,
+    kind: Arc<dyn NodeType>,
+    attr_base: u32,
+}
+
+/// A graph compiled into a flat schedule. Immutable; share it with `Arc`.
+pub struct Program {
+    steps: Vec<Step>,
+    frame_steps: Vec<u32>,
+    attr_bindings: Vec<AttrBinding>,
+    tables: CompiledTables,
+    initial: Vec<Value>,
+    dynamic_slot: Vec<bool>,
+    own_input_slot: Vec<bool>,
+    nodes: Vec<NodeEntry>,
+    node_index: HashMap<String, u32>,
+}
+
+impl std::fmt::Debug for Program {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Program")
+            .field("steps", &self.steps.len())
+            .field("frame_steps", &self.frame_steps.len())
+            .field("slots", &self.initial.len())
+            .finish()
+    }
+}
+
+/// A resolved plug of a program, for setting and reading values by handle
+/// (no string lookup per frame).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PlugHandle {
+    binding: Binding,
+    ty: AttrType,
+    /// The slot and lane written by `set`, when the plug is an unconnected input.
+    settable: Option<(u32, Option<u8>)>,
+}
+
+impl PlugHandle {
+    /// The value type read and written through this handle.
+    pub fn attr_type(&self) -> AttrType {
+        self.ty
+    }
+}
+
+impl Program {
+    /// Compiles `graph` into a schedule.
+    pub fn compile(graph: &Graph, options: &CompileOptions) -> Result<Program> {
+        Compiler::new(graph).run(options)
+    }
+
+    /// Number of compute steps (node groups).
+    pub fn step_count(&self) -> usize {
+        self.steps.len()
+    }
+
+    /// Number of steps that re-run every frame.
+    pub fn frame_step_count(&self) -> usize {
+        self.frame_steps.len()
+    }
+
+    /// Number of value slots.
+    pub fn slot_count(&self) -> usize {
+        self.initial.len()
+    }
+
+    /// Resolves a plug path to a handle.
+    pub fn handle(&self, path: &str) -> Result<PlugHandle> {
+        let bad = |reason: String| Error::BadPlugPath {
+            path: path.to_string(),
+            reason,
+        };
+        let p = parse_plug_path(path).map_err(bad)?;
+        let &ni = self.node_index.get(p.node).ok_or_else(|| Error::UnknownNode {
+            name: p.node.to_string(),
+            suggestion: nearest(p.node, self.node_index.keys().map(|s| s.as_str())),
+        })?;
+        let entry = &self.nodes[ni as usize];
+        let spec: &NodeSpec = entry.kind.spec();
+        let (attr, comp) = resolve_attr(spec, p.attr, p.child).map_err(|e| match e {
+            AttrLookupError::Unknown(n) => Error::UnknownAttribute {
+                node: entry.name.clone(),
+                node_type: spec.name.clone(),
+                suggestion: nearest(&n, spec.all_names()),
+                attr: n,
+            },
+            AttrLookupError::Malformed(m) => bad(m),
+        })?;
+        let a = spec.attr(attr);
+        if a.multi != p.index.is_some() {
+            return Err(bad(if a.multi {
+                "multi attribute needs an [index]".into()
+            } else {
+                "not a multi attribute".into()
+            }));
+        }
+        let ab = self.attr_bindings[(entry.attr_base + attr.0 as u32) as usize];
+        let index = p.index.unwrap_or(0);
+        let eb = self.tables.elems[ab.first as usize..(ab.first + ab.len) as usize]
+            .iter()
+            .find(|e| e.index == index)
+            .ok_or_else(|| {
+                Error::Program(format!(
+                    "{path}: this element did not exist when the program was compiled"
+                ))
+            })?;
+        let ty = if comp.is_some() { AttrType::Float } else { a.ty };
+        let binding = match (eb.binding, comp) {
+            (b, None) => b,
+            (Binding::Slot(s), Some(k)) => Binding::Component(s, k),
+            (Binding::Assemble(x), Some(k)) => {
+                let asm = self.tables.assemblies[x as usize];
+                match asm.comps[k as usize] {
+                    Some((s, Some(c))) => Binding::Component(s, c),
+                    Some((s, None)) => Binding::Slot(s),
+                    None => Binding::Component(asm.own, k),
+                }
+            }
+            (Binding::Component(..), Some(_)) => return Err(bad("a float plug has no components".into())),
+        };
+        let settable = if a.direction == Direction::Input {
+            match (eb.binding, comp) {
+                (Binding::Slot(s), c) if self.slot_is_own_input(s) => Some((s, c)),
+                (Binding::Assemble(x), Some(k)) => {
+                    let asm = self.tables.assemblies[x as usize];
+                    asm.comps[k as usize].is_none().then_some((asm.own, Some(k)))
+                }
+                _ => None,
+            }
+        } else {
+            None
+        };
+        Ok(PlugHandle { binding, ty, settable })
+    }
+
+    fn slot_is_own_input(&self, s: u32) -> bool {
+        self.own_input_slot.get(s as usize).copied().unwrap_or(false)
+    }
+
+    /// The name of the node a step belongs to (for messages).
+    fn step_node_name(&self, step: &Step) -> &str {
+        &self.nodes[step.node as usize].name
+    }
+}
+
+/// One evaluation state of a program: its own slot values.
+pub struct Instance {
+    program: Arc<Program>,
+    slots: Vec<Value>,
+    needs_full: bool,
+}
+
+impl std::fmt::Debug for Instance {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Instance")
+            .field("slots", &self.slots.len())
+            .field("needs_full", &self.needs_full)
+            .finish()
+    }
+}
+
+impl Clone for Instance {
+    fn clone(&self) -> Self {
+        Instance {
+            program: self.program.clone(),
+            slots: self.slots.clone(),
+            needs_full: self.needs_full,
+        }
+    }
+}
+
+impl Instance {
+    /// A new instance with the values the graph had at compile time.
+    pub fn new(program: Arc<Program>) -> Self {
+        let slots = program.initial.clone();
+        Instance {
+            program,
+            slots,
+            needs_full: true,
+        }
+    }
+
+    /// The program this instance runs.
+    pub fn program(&self) -> &Arc<Program> {
+        &self.program
+    }
+
+    /// Sets an unconnected input through its handle.
+    pub fn set(&mut self, h: &PlugHandle, value: Value) -> Result<()> {
+        let Some((slot, comp)) = h.settable else {
+            return Err(Error::Program(
+                "this plug is an output or is driven by a connection; it cannot be set".into(),
+            ));
+        };
+        let value = match (h.ty, value) {
+            (AttrType::Enum, Value::Int(i)) => Value::Enum(i),
+            (AttrType::Int, Value::Enum(i)) => Value::Int(i),
+            (_, v) => v,
+        };
+        if value.attr_type() != h.ty {
+            return Err(Error::Program(format!(
+                "the plug is {} but the value is {}",
+                h.ty,
+                value.attr_type()
+            )));
+        }
+        if !value.is_finite() {
+            return Err(Error::Program("value is not finite (NaN or infinity)".into()));
+        }
+        let Some(target) = self.slots.get_mut(slot as usize) else {
+            return Err(Error::Program("handle does not belong to this program".into()));
+        };
+        match (comp, target) {
+            (Some(k), Value::Vec3(v)) => v[k as usize] = value.as_f64().unwrap_or(0.0),
+            (_, t) => *t = value,
+        }
+        if !self.program.dynamic_slot.get(slot as usize).copied().unwrap_or(false) {
+            self.needs_full = true;
+        }
+        Ok(())
+    }
+
+    /// Sets a typed value through a handle.
+    pub fn set_typed<T: AttrValue>(&mut self, h: &PlugHandle, value: T) -> Result<()> {
+        self.set(h, value.into_value())
+    }
+
+    /// Reads the current value of a plug.
+    pub fn get(&self, h: &PlugHandle) -> Value {
+        self.program.tables.resolve(&self.slots, h.binding)
+    }
+
+    /// Reads a typed value (`None` when the handle's type differs).
+    pub fn get_typed<T: AttrValue>(&self, h: &PlugHandle) -> Option<T> {
+        match h.binding {
+            Binding::Slot(s) => self.slots.get(s as usize).and_then(T::from_value),
+            b => T::from_value(&self.program.tables.resolve(&self.slots, b)),
+        }
+    }
+
+    /// Evaluates the program at `time`: the whole program on the first call
+    /// or after a non-dynamic input changed, otherwise only the frame steps.
+    pub fn evaluate(&mut self, time: Time) -> Result<()> {
+        let program = self.program.clone();
+        let result = if self.needs_full {
+            run_steps(&program, program.steps.iter(), &mut self.slots, time)
+        } else {
+            run_steps(
+                &program,
+                program.frame_steps.iter().map(|&i| &program.steps[i as usize]),
+                &mut self.slots,
+                time,
+            )
+        };
+        if result.is_ok() {
+            self.needs_full = false;
+        }
+        result
+    }
+
+    /// Evaluates every step regardless of what changed.
+    pub fn evaluate_full(&mut self, time: Time) -> Result<()> {
+        self.needs_full = true;
+        self.evaluate(time)
+    }
+}
+
+fn run_steps<'a>(
+    program: &Program,
+    steps: impl Iterator<Item = &'a Step>,
+    slots: &mut [Value],
+    time: Time,
+) -> Result<()> {
+    for step in steps {
+        let base = step.attr_base as usize;
+        let attrs = &program.attr_bindings[base..base + step.attr_count as usize];
+        let spec = step.kind.spec();
+        let mut ctx = ComputeContext {
+            io: Io::Compiled(CompiledIo {
+                slots: &mut *slots,
+                attrs,
+                tables: &program.tables,
+            }),
+            spec,
+            group: step.group,
+            time,
+        };
+        if let Err(e) = step.kind.compute(&mut ctx) {
+            return Err(Error::Compute {
+                node: program.step_node_name(step).to_string(),
+                node_type: spec.name.clone(),
+                message: e.message,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Evaluates many instances at `time` in parallel (rayon). Instances are
+/// independent, so the results equal evaluating them one by one.
+pub fn evaluate_batch(instances: &mut [Instance], time: Time) -> Result<()> {
+    instances
+        .par_iter_mut()
+        .map(|i| i.evaluate(time))
+        .collect::<Result<Vec<()>>>()
+        .map(|_| ())
+}
+
+struct Compiler<'g> {
+    graph: &'g Graph,
+    order: Vec<NodeId>,
+    attr_base: Vec<u32>,
+    initial: Vec<Value>,
+    output_slot_producer: Vec<Option<(u32, u16)>>,
+    resolved: HashMap<(NodeId, AttrId, u32), Binding>,
+    own: HashMap<(NodeId, AttrId, u32), u32>,
+    outputs: HashMap<(NodeId, AttrId, u32), u32>,
+    assemblies: Vec<Assembly>,
+}
+
+impl<'g> Compiler<'g> {
+    fn new(graph: &'g Graph) -> Self {
+        let order = graph.nodes();
+        Compiler {
+            graph,
+            order,
+            attr_base: Vec::new(),
+            initial: Vec::new(),
+            output_slot_producer: Vec::new(),
+            resolved: HashMap::new(),
+            own: HashMap::new(),
+            outputs: HashMap::new(),
+            assemblies: Vec::new(),
+        }
+    }
+
+    fn new_slot(&mut self, v: Value, producer: Option<(u32, u16)>) -> u32 {
+        self.initial.push(v);
+        self.output_slot_producer.push(producer);
+        (self.initial.len() - 1) as u32
+    }
+
+    /// The binding through which the value at `plug` (an element, maybe a component) is read.
+    fn binding_of(&mut self, plug: Plug, depth: u32) -> Result<Binding> {
+        if depth > 10_000 {
+            return Err(Error::Program("connection chain too deep".into()));
+        }
+        let key = (plug.node, plug.attr, plug.elem());
+        let whole = if let Some(&b) = self.resolved.get(&key) {
+            b
+        } else {
+            let data = self.graph.data(plug.node)?;
+            let store = &data.attrs[plug.attr.index()];
+            let k = store.find(plug.elem()).ok_or_else(|| {
+                Error::Program(format!(
+                    "{} has no element {}",
+                    self.graph.plug_name(plug.whole()),
+                    plug.elem()
+                ))
+            })?;
+            let e = &store.elems[k];
+            let b = if let Some(&s) = self.outputs.get(&key) {
+                Binding::Slot(s)
+            } else if let Some(src) = e.source {
+                self.binding_of(src, depth + 1)?
+            } else if let Some(cs) = e.comp_sources.clone() {
+                let own = self.own[&key];
+                let mut comps = [None; 3];
+                for (k, s) in cs.iter().enumerate() {
+                    if let Some(s) = s {
+                        comps[k] = Some(match self.binding_of(*s, depth + 1)? {
+                            Binding::Slot(x) => (x, None),
+                            Binding::Component(x, c) => (x, Some(c)),
+                            Binding::Assemble(_) => {
+                                return Err(Error::Program("component source resolved to a vec3".into()))
+                            }
+                        });
+                    }
+                }
+                self.assemblies.push(Assembly { own, comps });
+                Binding::Assemble((self.assemblies.len() - 1) as u32)
+            } else {
+                Binding::Slot(self.own[&key])
+            };
+            self.resolved.insert(key, b);
+            b
+        };
+        Ok(match (whole, plug.component) {
+            (b, None) => b,
+            (Binding::Slot(s), Some(k)) => Binding::Component(s, k),
+            (Binding::Assemble(x), Some(k)) => {
+                let asm = self.assemblies[x as usize];
+                match asm.comps[k as usize] {
+                    Some((s, Some(c))) => Binding::Component(s, c),
+                    Some((s, None)) => Binding::Slot(s),
+                    None => Binding::Component(asm.own, k),
+                }
+            }
+            (Binding::Component(..), Some(_)) => return Err(Error::Program("component of a float".into())),
+        })
+    }
+
+    fn run(mut self, options: &CompileOptions) -> Result<Program> {
+        let g = self.graph;
+        // Pass 1: slots for outputs (per group) and for inputs not driven as a whole.
+        let mut total_attrs = 0u32;
+        for (ni, &id) in self.order.clone().iter().enumerate() {
+            let data = g.data(id)?;
+            self.attr_base.push(total_attrs);
+            total_attrs += data.attrs.len() as u32;
+            let spec = data.spec();
+            for (a, store) in data.attrs.iter().enumerate() {
+                let attr = AttrId(a as u16);
+                let aspec = spec.attr(attr);
+                for e in &store.elems {
+                    let key = (id, attr, e.index);
+                    if aspec.direction == Direction::Output {
+                        let group = spec.group_of(attr).unwrap_or(0);
+                        let s = self.new_slot(e.value.clone(), Some((ni as u32, group)));
+                        self.outputs.insert(key, s);
+                    } else if e.source.is_none() {
+                        let s = self.new_slot(e.value.clone(), None);
+                        self.own.insert(key, s);
+                    }
+                }
+            }
+        }
+        // Pass 2: bindings for every element.
+        let mut attr_bindings = vec![AttrBinding::default(); total_attrs as usize];
+        let mut elems = Vec::new();
+        for (ni, &id) in self.order.clone().iter().enumerate() {
+            let data = g.data(id)?;
+            let spec = data.spec();
+            for (a, store) in data.attrs.iter().enumerate() {
+                let first = elems.len() as u32;
+                let multi = spec.attrs[a].multi;
+                for e in &store.elems {
+                    let plug = Plug {
+                        node: id,
+                        attr: AttrId(a as u16),
+                        index: multi.then_some(e.index),
+                        component: None,
+                    };
+                    let binding = self.binding_of(plug, 0)?;
+                    elems.push(ElemBinding {
+                        index: e.index,
+                        binding,
+                    });
+                }
+                attr_bindings[(self.attr_base[ni] + a as u32) as usize] = AttrBinding {
+                    first,
+                    len: elems.len() as u32 - first,
+                };
+            }
+        }
+        let tables = CompiledTables {
+            elems,
+            assemblies: std::mem::take(&mut self.assemblies),
+        };
+        // Steps, one per node group, and their dependencies.
+        let mut steps: Vec<Step> = Vec::new();
+        let mut step_of: HashMap<(u32, u16), u32> = HashMap::new();
+        for (ni, &id) in self.order.iter().enumerate() {
+            let data = g.data(id)?;
+            for gi in 0..data.spec().groups().len() {
+                step_of.insert((ni as u32, gi as u16), steps.len() as u32);
+                steps.push(Step {
+                    kind: data.kind.clone(),
+                    node: ni as u32,
+                    attr_base: self.attr_base[ni],
+                    attr_count: data.attrs.len() as u32,
+                    group: gi as u16,
+                });
+            }
+        }
+        let slot_reads = |b: Binding, out: &mut Vec<u32>| match b {
+            Binding::Slot(s) | Binding::Component(s, _) => out.push(s),
+            Binding::Assemble(x) => {
+                let asm = tables.assemblies[x as usize];
+                out.push(asm.own);
+                out.extend(asm.comps.iter().flatten().map(|c| c.0));
+            }
+        };
+        let mut dynamic_slot = vec![false; self.initial.len()];
+        for p in &options.dynamic_inputs {
+            let key = (p.node, p.attr, p.elem());
+            match self.own.get(&key) {
+                Some(&s) => dynamic_slot[s as usize] = true,
+                None => {
+                    return Err(Error::Program(format!(
+                        "{} cannot be dynamic: it is an output or driven by a connection",
+                        g.plug_name(*p)
+                    )))
+                }
+            }
+        }
+        let n = steps.len();
+        let mut deps: Vec<Vec<u32>> = vec![Vec::new(); n];
+        let mut reads_dynamic = vec![false; n];
+        let mut buf = Vec::new();
+        for (si, step) in steps.iter().enumerate() {
+            let spec = step.kind.spec();
+            for &a in &spec.groups()[step.group as usize].inputs {
+                let ab = attr_bindings[(step.attr_base + a.0 as u32) as usize];
+                for eb in &tables.elems[ab.first as usize..(ab.first + ab.len) as usize] {
+                    buf.clear();
+                    slot_reads(eb.binding, &mut buf);
+                    for &s in &buf {
+                        if dynamic_slot[s as usize] {
+                            reads_dynamic[si] = true;
+                        }
+                        if let Some(p) = self.output_slot_producer[s as usize] {
+                            if let Some(&d) = step_of.get(&p) {
+                                if d as usize != si {
+                                    deps[si].push(d);
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        // Kahn's algorithm, lowest step index first for a stable order.
+        let mut indegree = vec![0u32; n];
+        let mut users: Vec<Vec<u32>> = vec![Vec::new(); n];
+        for (si, ds) in deps.iter_mut().enumerate() {
+            ds.sort_unstable();
+            ds.dedup();
+            indegree[si] = ds.len() as u32;
+            for &d in ds.iter() {
+                users[d as usize].push(si as u32);
+            }
+        }
+        let mut ready: std::collections::BinaryHeap<std::cmp::Reverse<u32>> = (0..n as u32)
+            .filter(|&i| indegree[i as usize] == 0)
+            .map(std::cmp::Reverse)
+            .collect();
+        let mut order = Vec::with_capacity(n);
+        while let Some(std::cmp::Reverse(i)) = ready.pop() {
+            order.push(i);
+            for &u in &users[i as usize] {
+                indegree[u as usize] -= 1;
+                if indegree[u as usize] == 0 {
+                    ready.push(std::cmp::Reverse(u));
+                }
+            }
+        }
+        if order.len() != n {
+            return Err(Error::Program(
+                "the graph has a plug-level cycle; it cannot be compiled".into(),
+            ));
+        }
+        let mut dynamic = vec![false; n];
+        for &i in &order {
+            let i = i as usize;
+            dynamic[i] =
+                steps[i].kind.spec().time_dependent || reads_dynamic[i] || deps[i].iter().any(|&d| dynamic[d as usize]);
+        }
+        // Reorder steps into schedule order.
+        let mut slots_of_steps: Vec<Option<Step>> = steps.into_iter().map(Some).collect();
+        let mut sorted = Vec::with_capacity(n);
+        let mut frame_steps = Vec::new();
+        for (k, &i) in order.iter().enumerate() {
+            if let Some(s) = slots_of_steps[i as usize].take() {
+                sorted.push(s);
+            }
+            if dynamic[i as usize] {
+                frame_steps.push(k as u32);
+            }
+        }
+        let nodes = self
+            .order
+            .iter()
+            .enumerate()
+            .map(|(ni, &id)| {
+                let d = &g.nodes[id];
+                NodeEntry {
+                    name: d.name.clone(),
+                    kind: d.kind.clone(),
+                    attr_base: self.attr_base[ni],
+                }
+            })
+            .collect::<Vec<_>>();
+        let node_index = nodes
+            .iter()
+            .enumerate()
+            .map(|(i, e)| (e.name.clone(), i as u32))
+            .collect();
+        let own_input_slot = self.output_slot_producer.iter().map(|p| p.is_none()).collect();
+        Ok(Program {
+            steps: sorted,
+            frame_steps,
+            attr_bindings,
+            tables,
+            initial: self.initial,
+            dynamic_slot,
+            own_input_slot,
+            nodes,
+            node_index,
+        })
+    }
+}

@@ -1,0 +1,529 @@
+//! Attribute and node-type specifications, declared once per node type by its
+//! plugin, and the typed handles a plugin uses to read and write its plugs.
+//!
+//! A spec lists the attributes (name, type, direction, default, keyable,
+//! multi, vec3 child names, enum names, unit) and which inputs affect which
+//! outputs. From `affects` the spec derives *compute groups*: outputs that
+//! depend on exactly the same inputs are computed together by one call of
+//! the node's `compute`. Groups are what lets a node sit in a node-level loop
+//! without a plug-level cycle (a joint's `parentInverseMatrix` does not wait
+//! for its own `rotate`).
+
+use std::collections::HashMap;
+use std::marker::PhantomData;
+
+use crate::error::SpecError;
+use crate::value::{AttrType, AttrValue, Value};
+
+/// Index of an attribute within its node type's spec.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct AttrId(pub u16);
+
+impl AttrId {
+    /// The index as `usize`.
+    #[inline]
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
+/// Whether an attribute is read by the node (input) or written by it (output).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Direction {
+    /// Set by hand or by a connection; read by `compute`.
+    Input,
+    /// Written by `compute`; may feed connections.
+    Output,
+}
+
+/// What unit a float or vec3 attribute is in, for authoring and display.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum Unit {
+    /// A plain number.
+    #[default]
+    None,
+    /// An angle in degrees (rotate, jointOrient...).
+    Degrees,
+    /// A length in scene units.
+    Distance,
+    /// Time in frames.
+    Frames,
+}
+
+/// The declaration of one attribute.
+#[derive(Clone, Debug)]
+pub struct AttrSpec {
+    /// The attribute's long name (Maya-style camelCase, e.g. `rotatePivot`).
+    pub name: String,
+    /// Value type of each plug of the attribute.
+    pub ty: AttrType,
+    /// Input or output.
+    pub direction: Direction,
+    /// The value a plug has before anything sets it.
+    pub default: Value,
+    /// Whether animators key it (shown in channel-box listings).
+    pub keyable: bool,
+    /// Whether this is a multi (array) attribute addressed as `name[i]`.
+    pub multi: bool,
+    /// Names of the three children of a vec3 attribute (`translateX`...).
+    pub children: Option<[String; 3]>,
+    /// The choices of an enum attribute, by index.
+    pub enum_names: Vec<String>,
+    /// Unit, for authoring and display.
+    pub unit: Unit,
+    /// One line on what the attribute is for.
+    pub doc: String,
+}
+
+impl AttrSpec {
+    /// Whether this is an input.
+    pub fn is_input(&self) -> bool {
+        self.direction == Direction::Input
+    }
+
+    /// Index of the enum choice named `name` (case-insensitive).
+    pub fn enum_index(&self, name: &str) -> Option<i64> {
+        self.enum_names
+            .iter()
+            .position(|n| n.eq_ignore_ascii_case(name))
+            .map(|i| i as i64)
+    }
+}
+
+/// A set of outputs computed together, and the inputs they depend on.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct ComputeGroup {
+    /// Outputs written by one call of `compute` for this group.
+    pub outputs: Vec<AttrId>,
+    /// Inputs that affect them (what must be clean before computing).
+    pub inputs: Vec<AttrId>,
+}
+
+/// The DAG (parenting) hookup of a node type: the child's `parent_matrix`
+/// input is fed from the parent's `world_matrix` output.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DagSpec {
+    /// The input that receives the parent's world matrix.
+    pub parent_matrix: AttrId,
+    /// The output that feeds children's `parent_matrix`.
+    pub world_matrix: AttrId,
+}
+
+/// The specification of a node type.
+#[derive(Clone, Debug)]
+pub struct NodeSpec {
+    /// The type name used in rig files (`multiplyDivide`).
+    pub name: String,
+    /// One line on what the node does.
+    pub doc: String,
+    /// Attributes in declaration order; `AttrId` indexes this list.
+    pub attrs: Vec<AttrSpec>,
+    /// Whether the node reads the graph's time (animation curves, `time`).
+    pub time_dependent: bool,
+    /// Parenting hookup, for transform-like nodes.
+    pub dag: Option<DagSpec>,
+    groups: Vec<ComputeGroup>,
+    /// For each attribute: its group if it is an output; `u16::MAX` for inputs.
+    group_of: Vec<u16>,
+    /// For each input: the groups it affects.
+    affected_groups: Vec<Vec<u16>>,
+    by_name: HashMap<String, (AttrId, Option<u8>)>,
+}
+
+impl NodeSpec {
+    /// Starts building a spec for the node type `name`.
+    pub fn builder(name: &str) -> SpecBuilder {
+        SpecBuilder {
+            name: name.to_string(),
+            doc: String::new(),
+            attrs: Vec::new(),
+            affects: Vec::new(),
+            time_dependent: false,
+            dag: None,
+        }
+    }
+
+    /// The attribute with id `id`.
+    ///
+    /// # Panics
+    /// Panics if `id` does not belong to this spec (a plugin bug, never user data).
+    pub fn attr(&self, id: AttrId) -> &AttrSpec {
+        &self.attrs[id.index()]
+    }
+
+    /// Looks up an attribute or a vec3 child by name: `translate` gives
+    /// `(translate, None)`, `translateY` gives `(translate, Some(1))`.
+    pub fn find(&self, name: &str) -> Option<(AttrId, Option<u8>)> {
+        self.by_name.get(name).copied()
+    }
+
+    /// All names that [`NodeSpec::find`] accepts (attributes and vec3 children).
+    pub fn all_names(&self) -> impl Iterator<Item = &str> {
+        self.by_name.keys().map(|s| s.as_str())
+    }
+
+    /// The compute groups of this node type.
+    pub fn groups(&self) -> &[ComputeGroup] {
+        &self.groups
+    }
+
+    /// The group an output belongs to (`None` for inputs).
+    pub fn group_of(&self, id: AttrId) -> Option<u16> {
+        match self.group_of.get(id.index()) {
+            Some(&g) if g != u16::MAX => Some(g),
+            _ => None,
+        }
+    }
+
+    /// The groups an input affects (empty for outputs).
+    pub fn groups_affected_by(&self, id: AttrId) -> &[u16] {
+        self.affected_groups
+            .get(id.index())
+            .map(|v| v.as_slice())
+            .unwrap_or(&[])
+    }
+
+    /// Ids of all attributes.
+    pub fn attr_ids(&self) -> impl Iterator<Item = AttrId> {
+        (0..self.attrs.len() as u16).map(AttrId)
+    }
+}
+
+/// Builds a [`NodeSpec`]; each `input`/`output` call returns a typed handle
+/// that the plugin keeps to read or write that attribute in `compute`.
+#[derive(Debug)]
+pub struct SpecBuilder {
+    name: String,
+    doc: String,
+    attrs: Vec<AttrSpec>,
+    affects: Vec<(AttrId, AttrId)>,
+    time_dependent: bool,
+    dag: Option<DagSpec>,
+}
+
+impl SpecBuilder {
+    fn push(&mut self, name: &str, ty: AttrType, direction: Direction, default: Value, multi: bool) -> AttrId {
+        let id = AttrId(self.attrs.len() as u16);
+        let children = (ty == AttrType::Vec3).then(|| ["X", "Y", "Z"].map(|s| format!("{name}{s}")));
+        self.attrs.push(AttrSpec {
+            name: name.to_string(),
+            ty,
+            direction,
+            default,
+            keyable: direction == Direction::Input
+                && matches!(
+                    ty,
+                    AttrType::Bool | AttrType::Int | AttrType::Float | AttrType::Vec3 | AttrType::Enum
+                ),
+            multi,
+            children,
+            enum_names: Vec::new(),
+            unit: Unit::None,
+            doc: String::new(),
+        });
+        id
+    }
+
+    /// Sets the one-line description of the node type.
+    pub fn doc(&mut self, doc: &str) -> &mut Self {
+        self.doc = doc.to_string();
+        self
+    }
+
+    /// Declares a single-valued input with a default.
+    pub fn input<T: AttrValue>(&mut self, name: &str, default: T) -> Input<T> {
+        Input::new(self.push(name, T::TYPE, Direction::Input, default.into_value(), false))
+    }
+
+    /// Declares an enum input with its choices and default index.
+    pub fn input_enum(&mut self, name: &str, choices: &[&str], default: i64) -> Input<i64> {
+        let id = self.push(name, AttrType::Enum, Direction::Input, Value::Enum(default), false);
+        self.attrs[id.index()].enum_names = choices.iter().map(|s| s.to_string()).collect();
+        Input::new(id)
+    }
+
+    /// Declares a multi (array) input; each element starts at `default`.
+    pub fn multi_input<T: AttrValue>(&mut self, name: &str, default: T) -> MultiInput<T> {
+        MultiInput::new(self.push(name, T::TYPE, Direction::Input, default.into_value(), true))
+    }
+
+    /// Declares a single-valued output; `initial` is its value before the first compute.
+    pub fn output<T: AttrValue>(&mut self, name: &str, initial: T) -> Output<T> {
+        Output::new(self.push(name, T::TYPE, Direction::Output, initial.into_value(), false))
+    }
+
+    /// Declares a multi (array) output; elements exist where something reads them.
+    pub fn multi_output<T: AttrValue>(&mut self, name: &str, initial: T) -> MultiOutput<T> {
+        MultiOutput::new(self.push(name, T::TYPE, Direction::Output, initial.into_value(), true))
+    }
+
+    fn attr_mut(&mut self, id: impl Into<AttrId>) -> Option<&mut AttrSpec> {
+        self.attrs.get_mut(id.into().index())
+    }
+
+    /// Sets the one-line description of an attribute.
+    pub fn attr_doc(&mut self, id: impl Into<AttrId>, doc: &str) -> &mut Self {
+        if let Some(a) = self.attr_mut(id) {
+            a.doc = doc.to_string();
+        }
+        self
+    }
+
+    /// Renames the children of a vec3 attribute by suffix (`["R", "G", "B"]`
+    /// gives `colorIfTrueR`...), as Maya does for colour attributes.
+    pub fn child_suffixes(&mut self, id: impl Into<AttrId>, suffixes: [&str; 3]) -> &mut Self {
+        if let Some(a) = self.attr_mut(id) {
+            let name = a.name.clone();
+            a.children = Some(suffixes.map(|s| format!("{name}{s}")));
+        }
+        self
+    }
+
+    /// Marks an attribute as an angle in degrees (or another unit).
+    pub fn unit(&mut self, id: impl Into<AttrId>, unit: Unit) -> &mut Self {
+        if let Some(a) = self.attr_mut(id) {
+            a.unit = unit;
+        }
+        self
+    }
+
+    /// Sets whether an input is keyable.
+    pub fn keyable(&mut self, id: impl Into<AttrId>, keyable: bool) -> &mut Self {
+        if let Some(a) = self.attr_mut(id) {
+            a.keyable = keyable;
+        }
+        self
+    }
+
+    /// Declares that each of `inputs` affects each of `outputs`.
+    ///
+    /// When a spec declares no `affects` at all, every input affects every output.
+    pub fn affects(&mut self, inputs: &[AttrId], outputs: &[AttrId]) -> &mut Self {
+        for &i in inputs {
+            for &o in outputs {
+                self.affects.push((i, o));
+            }
+        }
+        self
+    }
+
+    /// Marks the node as reading the graph's time.
+    pub fn time_dependent(&mut self) -> &mut Self {
+        self.time_dependent = true;
+        self
+    }
+
+    /// Declares the DAG hookup used by `parent` in rig files.
+    pub fn dag(&mut self, parent_matrix: Input<glam::DMat4>, world_matrix: Output<glam::DMat4>) -> &mut Self {
+        self.dag = Some(DagSpec {
+            parent_matrix: parent_matrix.id(),
+            world_matrix: world_matrix.id(),
+        });
+        self
+    }
+
+    /// Finishes the spec: checks names and derives compute groups.
+    pub fn build(self) -> Result<NodeSpec, SpecError> {
+        let err = |message: String| SpecError {
+            node_type: self.name.clone(),
+            message,
+        };
+        if self.name.is_empty() || !self.name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+            return Err(err(format!(
+                "node type name {:?} must be a non-empty identifier",
+                self.name
+            )));
+        }
+        if self.attrs.len() >= u16::MAX as usize {
+            return Err(err("too many attributes".into()));
+        }
+        let mut by_name = HashMap::new();
+        for (i, a) in self.attrs.iter().enumerate() {
+            let id = AttrId(i as u16);
+            if a.default.attr_type() != a.ty && !(a.ty == AttrType::Enum && a.default.attr_type() == AttrType::Int) {
+                return Err(err(format!(
+                    "attribute {} default has type {} but the attribute is {}",
+                    a.name,
+                    a.default.attr_type(),
+                    a.ty
+                )));
+            }
+            let mut names = vec![(a.name.clone(), (id, None))];
+            if let Some(ch) = &a.children {
+                for (k, c) in ch.iter().enumerate() {
+                    names.push((c.clone(), (id, Some(k as u8))));
+                }
+            }
+            for (n, v) in names {
+                if n.is_empty() || !n.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+                    return Err(err(format!("attribute name {n:?} must be an identifier")));
+                }
+                if by_name.insert(n.clone(), v).is_some() {
+                    return Err(err(format!("attribute name {n:?} is declared twice")));
+                }
+            }
+        }
+        let n = self.attrs.len();
+        let is_out = |id: AttrId| self.attrs.get(id.index()).map(|a| a.direction == Direction::Output);
+        for &(i, o) in &self.affects {
+            if is_out(i) != Some(false) || is_out(o) != Some(true) {
+                return Err(err(format!(
+                    "affects must go from an input to an output ({} -> {})",
+                    i.0, o.0
+                )));
+            }
+        }
+        // inputs affecting each output
+        let inputs: Vec<AttrId> = (0..n as u16)
+            .map(AttrId)
+            .filter(|&a| is_out(a) == Some(false))
+            .collect();
+        let outputs: Vec<AttrId> = (0..n as u16).map(AttrId).filter(|&a| is_out(a) == Some(true)).collect();
+        let mut groups: Vec<ComputeGroup> = Vec::new();
+        let mut group_of = vec![u16::MAX; n];
+        for &o in &outputs {
+            let mut ins: Vec<AttrId> = if self.affects.is_empty() {
+                inputs.clone()
+            } else {
+                self.affects
+                    .iter()
+                    .filter(|(_, out)| *out == o)
+                    .map(|(i, _)| *i)
+                    .collect()
+            };
+            ins.sort();
+            ins.dedup();
+            let g = match groups.iter().position(|g| g.inputs == ins) {
+                Some(g) => g,
+                None => {
+                    groups.push(ComputeGroup {
+                        outputs: Vec::new(),
+                        inputs: ins,
+                    });
+                    groups.len() - 1
+                }
+            };
+            groups[g].outputs.push(o);
+            group_of[o.index()] = g as u16;
+        }
+        let mut affected_groups = vec![Vec::new(); n];
+        for (g, grp) in groups.iter().enumerate() {
+            for i in &grp.inputs {
+                affected_groups[i.index()].push(g as u16);
+            }
+        }
+        if let Some(d) = self.dag {
+            let ok = self.attrs.get(d.parent_matrix.index()).map(|a| (a.ty, a.direction))
+                == Some((AttrType::Matrix, Direction::Input))
+                && self.attrs.get(d.world_matrix.index()).map(|a| (a.ty, a.direction))
+                    == Some((AttrType::Matrix, Direction::Output));
+            if !ok {
+                return Err(err("dag hookup must name a matrix input and a matrix output".into()));
+            }
+        }
+        Ok(NodeSpec {
+            name: self.name,
+            doc: self.doc,
+            attrs: self.attrs,
+            time_dependent: self.time_dependent,
+            dag: self.dag,
+            groups,
+            group_of,
+            affected_groups,
+            by_name,
+        })
+    }
+}
+
+macro_rules! handle {
+    ($(#[$doc:meta])* $name:ident) => {
+        $(#[$doc])*
+        #[derive(Debug)]
+        pub struct $name<T> {
+            id: AttrId,
+            _t: PhantomData<fn() -> T>,
+        }
+        impl<T> Clone for $name<T> {
+            fn clone(&self) -> Self {
+                *self
+            }
+        }
+        impl<T> Copy for $name<T> {}
+        impl<T> $name<T> {
+            /// Wraps an attribute id (normally done by [`SpecBuilder`]).
+            pub const fn new(id: AttrId) -> Self {
+                $name { id, _t: PhantomData }
+            }
+            /// The attribute id.
+            #[inline]
+            pub fn id(self) -> AttrId {
+                self.id
+            }
+        }
+        impl<T> From<$name<T>> for AttrId {
+            fn from(h: $name<T>) -> AttrId {
+                h.id
+            }
+        }
+    };
+}
+
+handle!(
+    /// Typed handle to a single-valued input attribute.
+    Input
+);
+handle!(
+    /// Typed handle to a multi (array) input attribute.
+    MultiInput
+);
+handle!(
+    /// Typed handle to a single-valued output attribute.
+    Output
+);
+handle!(
+    /// Typed handle to a multi (array) output attribute.
+    MultiOutput
+);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DMat4;
+
+    #[test]
+    fn groups_split_by_affects() {
+        let mut b = NodeSpec::builder("xf");
+        let t = b.input("translate", glam::DVec3::ZERO);
+        let pm = b.input("parentMatrix", DMat4::IDENTITY);
+        let m = b.output("matrix", DMat4::IDENTITY);
+        let wm = b.output("worldMatrix", DMat4::IDENTITY);
+        let pim = b.output("parentInverseMatrix", DMat4::IDENTITY);
+        b.affects(&[t.id()], &[m.id(), wm.id()]);
+        b.affects(&[pm.id()], &[wm.id(), pim.id()]);
+        let s = b.build().unwrap();
+        assert_eq!(s.groups().len(), 3);
+        assert_ne!(s.group_of(m.id()), s.group_of(wm.id()));
+        assert_eq!(s.groups_affected_by(pm.id()).len(), 2);
+        assert_eq!(s.find("translateY"), Some((t.id(), Some(1))));
+    }
+
+    #[test]
+    fn duplicate_names_are_rejected() {
+        let mut b = NodeSpec::builder("dup");
+        b.input("a", 0.0);
+        b.input("a", 1.0);
+        assert!(b.build().unwrap_err().to_string().contains("twice"));
+    }
+
+    #[test]
+    fn without_affects_one_group() {
+        let mut b = NodeSpec::builder("add");
+        b.input("a", 0.0);
+        b.input("b", 0.0);
+        b.output("sum", 0.0);
+        b.output("diff", 0.0);
+        let s = b.build().unwrap();
+        assert_eq!(s.groups().len(), 1);
+        assert_eq!(s.groups()[0].inputs.len(), 2);
+    }
+}

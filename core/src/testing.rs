@@ -1,0 +1,257 @@
+//! Small node types for testing and benchmarking the core itself (the core
+//! registers no real node type). They are public so benches, property tests
+//! and third-party plugin authors can use them as examples.
+
+use std::sync::Arc;
+
+use glam::DVec3;
+
+use crate::error::{ComputeError, SpecError};
+use crate::node::{ComputeContext, NodeType};
+use crate::registry::Registry;
+use crate::spec::{Input, MultiInput, MultiOutput, NodeSpec, Output};
+
+/// `add`: `output = input1 + input2` (floats).
+pub struct Add {
+    spec: NodeSpec,
+    a: Input<f64>,
+    b: Input<f64>,
+    out: Output<f64>,
+}
+
+impl Add {
+    /// Creates the node type.
+    pub fn new() -> Result<Self, SpecError> {
+        let mut s = NodeSpec::builder("add");
+        s.doc("output = input1 + input2");
+        let a = s.input("input1", 0.0);
+        let b = s.input("input2", 0.0);
+        let out = s.output("output", 0.0);
+        Ok(Add {
+            spec: s.build()?,
+            a,
+            b,
+            out,
+        })
+    }
+}
+
+impl NodeType for Add {
+    fn spec(&self) -> &NodeSpec {
+        &self.spec
+    }
+    fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
+        let v = ctx.get(self.a) + ctx.get(self.b);
+        ctx.set(self.out, v);
+        Ok(())
+    }
+}
+
+/// `clampPositive`: `output = max(input, 0)`; fails on inputs below -1000
+/// (to test error paths).
+pub struct ClampPositive {
+    spec: NodeSpec,
+    input: Input<f64>,
+    out: Output<f64>,
+}
+
+impl ClampPositive {
+    /// Creates the node type.
+    pub fn new() -> Result<Self, SpecError> {
+        let mut s = NodeSpec::builder("clampPositive");
+        let input = s.input("input", 0.0);
+        let out = s.output("output", 0.0);
+        Ok(ClampPositive {
+            spec: s.build()?,
+            input,
+            out,
+        })
+    }
+}
+
+impl NodeType for ClampPositive {
+    fn spec(&self) -> &NodeSpec {
+        &self.spec
+    }
+    fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
+        let x = ctx.get(self.input);
+        if x < -1000.0 {
+            return Err(ComputeError::new(format!("input {x} is below -1000")));
+        }
+        ctx.set(self.out, x.max(0.0));
+        Ok(())
+    }
+}
+
+/// `twoGroups`: `sum = a + b` and `echo = b`, with `a` affecting only `sum`,
+/// so `echo -> a` on the same node is a node-level loop but not a plug cycle.
+pub struct TwoGroups {
+    spec: NodeSpec,
+    a: Input<f64>,
+    b: Input<f64>,
+    sum: Output<f64>,
+    echo: Output<f64>,
+}
+
+impl TwoGroups {
+    /// Creates the node type.
+    pub fn new() -> Result<Self, SpecError> {
+        let mut s = NodeSpec::builder("twoGroups");
+        let a = s.input("a", 0.0);
+        let b = s.input("b", 0.0);
+        let sum = s.output("sum", 0.0);
+        let echo = s.output("echo", 0.0);
+        s.affects(&[a.id(), b.id()], &[sum.id()]);
+        s.affects(&[b.id()], &[echo.id()]);
+        Ok(TwoGroups {
+            spec: s.build()?,
+            a,
+            b,
+            sum,
+            echo,
+        })
+    }
+}
+
+impl NodeType for TwoGroups {
+    fn spec(&self) -> &NodeSpec {
+        &self.spec
+    }
+    fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
+        if ctx.wants(self.sum) {
+            let v = ctx.get(self.a) + ctx.get(self.b);
+            ctx.set(self.sum, v);
+        }
+        if ctx.wants(self.echo) {
+            let v = ctx.get(self.b);
+            ctx.set(self.echo, v);
+        }
+        Ok(())
+    }
+}
+
+/// `vecScale`: `output = input * factor` (vec3 by float), to test components.
+pub struct VecScale {
+    spec: NodeSpec,
+    input: Input<DVec3>,
+    factor: Input<f64>,
+    out: Output<DVec3>,
+}
+
+impl VecScale {
+    /// Creates the node type.
+    pub fn new() -> Result<Self, SpecError> {
+        let mut s = NodeSpec::builder("vecScale");
+        let input = s.input("input", DVec3::ZERO);
+        let factor = s.input("factor", 1.0);
+        let out = s.output("output", DVec3::ZERO);
+        Ok(VecScale {
+            spec: s.build()?,
+            input,
+            factor,
+            out,
+        })
+    }
+}
+
+impl NodeType for VecScale {
+    fn spec(&self) -> &NodeSpec {
+        &self.spec
+    }
+    fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
+        let v = ctx.get(self.input) * ctx.get(self.factor);
+        ctx.set(self.out, v);
+        Ok(())
+    }
+}
+
+/// `sumMulti`: `output = sum of input[i]`, and `spread[i] = output * i` for
+/// each existing element of the multi output `spread`.
+pub struct SumMulti {
+    spec: NodeSpec,
+    input: MultiInput<f64>,
+    out: Output<f64>,
+    spread: MultiOutput<f64>,
+}
+
+impl SumMulti {
+    /// Creates the node type.
+    pub fn new() -> Result<Self, SpecError> {
+        let mut s = NodeSpec::builder("sumMulti");
+        let input = s.multi_input("input", 0.0);
+        let out = s.output("output", 0.0);
+        let spread = s.multi_output("spread", 0.0);
+        Ok(SumMulti {
+            spec: s.build()?,
+            input,
+            out,
+            spread,
+        })
+    }
+}
+
+impl NodeType for SumMulti {
+    fn spec(&self) -> &NodeSpec {
+        &self.spec
+    }
+    fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
+        let mut sum = 0.0;
+        let mut k = 0;
+        while let Some((_, v)) = ctx.multi_at(self.input, k) {
+            sum += v;
+            k += 1;
+        }
+        ctx.set(self.out, sum);
+        for k in 0..ctx.multi_out_len(self.spread) {
+            if let Some(i) = ctx.multi_out_index(self.spread, k) {
+                ctx.set_at(self.spread, i, sum * i as f64);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// `timeSource`: `output = frame * scale`; time-dependent.
+pub struct TimeSource {
+    spec: NodeSpec,
+    scale: Input<f64>,
+    out: Output<f64>,
+}
+
+impl TimeSource {
+    /// Creates the node type.
+    pub fn new() -> Result<Self, SpecError> {
+        let mut s = NodeSpec::builder("timeSource");
+        let scale = s.input("scale", 1.0);
+        let out = s.output("output", 0.0);
+        s.time_dependent();
+        Ok(TimeSource {
+            spec: s.build()?,
+            scale,
+            out,
+        })
+    }
+}
+
+impl NodeType for TimeSource {
+    fn spec(&self) -> &NodeSpec {
+        &self.spec
+    }
+    fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
+        let v = ctx.time().frame * ctx.get(self.scale);
+        ctx.set(self.out, v);
+        Ok(())
+    }
+}
+
+/// A registry with all the test node types.
+pub fn registry() -> Result<Arc<Registry>, SpecError> {
+    let mut r = Registry::new();
+    r.register(Add::new()?)?;
+    r.register(ClampPositive::new()?)?;
+    r.register(TwoGroups::new()?)?;
+    r.register(VecScale::new()?)?;
+    r.register(SumMulti::new()?)?;
+    r.register(TimeSource::new()?)?;
+    Ok(Arc::new(r))
+}

@@ -1,0 +1,410 @@
+//! Skinning kernels, the per-frame hot path of `skinCluster`: linear blend skinning (LBS),
+//! dual quaternion skinning (DQS) and Maya's weight-blended mix of the two, serial and
+//! parallel.
+//!
+//! Contract (ozz-style job):
+//! - inputs: rest positions and (optionally) rest normals, sparse [`Weights`], and a palette
+//!   of `f32` matrices `jointWorld × bindPreMatrix`, one per joint;
+//! - outputs: caller-provided slices of the same length as the inputs; nothing is allocated
+//!   per call (DQS converts the palette into a caller-owned [`DqPalette`]);
+//! - pass empty normal slices (input and output) to skip normals.
+//!
+//! Bad data never panics:
+//! - an influence whose joint index is outside the palette, or whose weight is not finite, is
+//!   **skipped** (the remaining weights are *not* renormalized);
+//! - a vertex whose valid influences' weights sum to exactly 0 (including "no influences",
+//!   or a broken compressed row) is copied from the rest pose unchanged;
+//! - weights are used as given: normalize them beforehand with [`super::weights::normalize`].
+//!   With LBS a row summing to `s ≠ 1` scales the blended matrix by about `s`.
+//!
+//! Normals: LBS transforms a normal by the **cofactor** of the blended 3×3 (the adjugate
+//! transpose, `det(A)·A⁻ᵀ`), then renormalizes. For rotations it equals the 3×3 itself; for
+//! non-uniform scale it is the correct inverse-transpose direction, and it maps a face normal
+//! `e₁ × e₂` exactly to `(A e₁) × (A e₂)`, so skinned normals agree with normals recomputed
+//! from the skinned triangles, mirrors included. It costs three cross products and, unlike
+//! an inverse, is defined for singular matrices. A normal that transforms to zero length is
+//! replaced by the rest normal. DQS rotates normals by the blended rotation (after the
+//! cofactor of the blended stretch when joints carry scale).
+//!
+//! Serial and parallel variants run the same per-vertex code, so their results are
+//! bit-identical; the parallel one splits the vertices into chunks of [`CHUNK`].
+
+use super::dual_quat::{DqJoint, DqPalette, DualQuat};
+use crate::data::Weights;
+use glam::{Mat3A, Mat4, Vec3, Vec3A, Vec4};
+use rayon::prelude::*;
+
+/// Vertices per parallel work item.
+pub const CHUNK: usize = 4096;
+
+/// Read-only inputs of a skinning call.
+#[derive(Clone, Copy, Debug)]
+pub struct SkinInput<'a> {
+    /// Rest (bind) positions, one per vertex.
+    pub positions: &'a [Vec3],
+    /// Rest normals, one per vertex, or empty to skip normals.
+    pub normals: &'a [Vec3],
+    /// Skin weights covering exactly the vertices of `positions`.
+    pub weights: &'a Weights,
+    /// Skinning matrices `jointWorld × bindPreMatrix`, indexed by the weights' joint indices.
+    pub palette: &'a [Mat4],
+}
+
+/// Caller-provided output buffers of a skinning call.
+#[derive(Debug)]
+pub struct SkinOutput<'a> {
+    /// Deformed positions; same length as the input positions.
+    pub positions: &'a mut [Vec3],
+    /// Deformed unit normals; same length as the input normals (empty to skip).
+    pub normals: &'a mut [Vec3],
+}
+
+/// Which skinning method to run.
+#[derive(Clone, Copy, Debug)]
+pub enum SkinMethod<'a> {
+    /// Linear blend skinning ("classic linear").
+    Linear,
+    /// Dual quaternion skinning with linearly blended stretch (see [`super::dual_quat`]).
+    DualQuaternion,
+    /// Maya's "weight blended": per vertex, `lerp(LBS, DQS, b)` with `b` from this slice,
+    /// clamped to `[0, 1]`; 0 is pure LBS, 1 pure DQS. Missing or NaN entries count as 0.
+    WeightBlended(&'a [f32]),
+}
+
+/// Why a skinning call could not run (buffer shapes only; bad weights are skipped).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum SkinError {
+    /// The weights cover a different number of vertices than the positions.
+    #[error("skin weights cover {weights} vertices but the mesh has {positions}; rebind the skin")]
+    WeightCount {
+        /// Vertices covered by the weights.
+        weights: usize,
+        /// Number of rest positions.
+        positions: usize,
+    },
+    /// An input or output buffer has the wrong length.
+    #[error("skinning buffer `{name}` has {len} entries but {expected} are needed")]
+    BufferLength {
+        /// Which buffer.
+        name: &'static str,
+        /// Its length.
+        len: usize,
+        /// The length required.
+        expected: usize,
+    },
+}
+
+/// Deforms with the chosen method on the calling thread.
+///
+/// `scratch` is only used (and refilled) by the DQS-based methods.
+pub fn skin(
+    input: &SkinInput<'_>,
+    method: SkinMethod<'_>,
+    scratch: &mut DqPalette,
+    out: SkinOutput<'_>,
+) -> Result<(), SkinError> {
+    let k = Kernel::prepare(input, method, scratch, &out)?;
+    k.run(0, out.positions, out.normals);
+    Ok(())
+}
+
+/// Same as [`skin`], split over rayon's pool in chunks of [`CHUNK`] vertices; bit-identical
+/// results.
+pub fn skin_parallel(
+    input: &SkinInput<'_>,
+    method: SkinMethod<'_>,
+    scratch: &mut DqPalette,
+    out: SkinOutput<'_>,
+) -> Result<(), SkinError> {
+    let k = Kernel::prepare(input, method, scratch, &out)?;
+    if out.normals.is_empty() {
+        out.positions
+            .par_chunks_mut(CHUNK)
+            .enumerate()
+            .for_each(|(c, p)| k.run(c * CHUNK, p, &mut []));
+    } else {
+        out.positions
+            .par_chunks_mut(CHUNK)
+            .zip(out.normals.par_chunks_mut(CHUNK))
+            .enumerate()
+            .for_each(|(c, (p, n))| k.run(c * CHUNK, p, n));
+    }
+    Ok(())
+}
+
+/// Linear blend skinning on the calling thread (no scratch needed).
+pub fn linear_blend(input: &SkinInput<'_>, out: SkinOutput<'_>) -> Result<(), SkinError> {
+    let k = Kernel::prepare_lbs(input, &out)?;
+    k.run(0, out.positions, out.normals);
+    Ok(())
+}
+
+/// Everything one chunk needs, borrowed for the duration of a call.
+struct Kernel<'a> {
+    positions: &'a [Vec3],
+    normals: &'a [Vec3],
+    offsets: &'a [u32],
+    joints: &'a [u32],
+    weights: &'a [f32],
+    palette: &'a [Mat4],
+    dq: &'a [DqJoint],
+    has_stretch: bool,
+    method: SkinMethod<'a>,
+}
+
+fn check_len(name: &'static str, len: usize, expected: usize) -> Result<(), SkinError> {
+    if len == expected {
+        Ok(())
+    } else {
+        Err(SkinError::BufferLength {
+            name,
+            len,
+            expected,
+        })
+    }
+}
+
+impl<'a> Kernel<'a> {
+    fn prepare_lbs(input: &SkinInput<'a>, out: &SkinOutput<'_>) -> Result<Self, SkinError> {
+        let n = input.positions.len();
+        if input.weights.vertex_count() != n {
+            return Err(SkinError::WeightCount {
+                weights: input.weights.vertex_count(),
+                positions: n,
+            });
+        }
+        check_len("output positions", out.positions.len(), n)?;
+        if !input.normals.is_empty() {
+            check_len("rest normals", input.normals.len(), n)?;
+        }
+        check_len("output normals", out.normals.len(), input.normals.len())?;
+        Ok(Kernel {
+            positions: input.positions,
+            normals: input.normals,
+            offsets: &input.weights.offsets,
+            joints: &input.weights.joints,
+            weights: &input.weights.weights,
+            palette: input.palette,
+            dq: &[],
+            has_stretch: false,
+            method: SkinMethod::Linear,
+        })
+    }
+
+    fn prepare(
+        input: &SkinInput<'a>,
+        method: SkinMethod<'a>,
+        scratch: &'a mut DqPalette,
+        out: &SkinOutput<'_>,
+    ) -> Result<Self, SkinError> {
+        let mut k = Self::prepare_lbs(input, out)?;
+        k.method = method;
+        if !matches!(method, SkinMethod::Linear) {
+            scratch.update(input.palette);
+            k.has_stretch = scratch.has_stretch();
+            k.dq = scratch.joints();
+        }
+        Ok(k)
+    }
+
+    /// The valid influences of vertex `v` (empty for a broken row).
+    #[inline(always)]
+    fn row(&self, v: usize) -> (&'a [u32], &'a [f32]) {
+        let (Some(&a), Some(&b)) = (self.offsets.get(v), self.offsets.get(v + 1)) else {
+            return (&[], &[]);
+        };
+        let r = a as usize..b as usize;
+        match (self.joints.get(r.clone()), self.weights.get(r)) {
+            (Some(j), Some(w)) => (j, w),
+            _ => (&[], &[]),
+        }
+    }
+
+    /// Deforms vertices `start..start + out_p.len()`; `out_n` is empty or as long as `out_p`.
+    fn run(&self, start: usize, out_p: &mut [Vec3], out_n: &mut [Vec3]) {
+        let with_normals = !out_n.is_empty();
+        match (self.method, with_normals) {
+            (SkinMethod::Linear, false) => self.lbs_loop::<false>(start, out_p, out_n),
+            (SkinMethod::Linear, true) => self.lbs_loop::<true>(start, out_p, out_n),
+            (SkinMethod::DualQuaternion, false) => {
+                self.mixed_loop::<false>(start, out_p, out_n, None)
+            }
+            (SkinMethod::DualQuaternion, true) => {
+                self.mixed_loop::<true>(start, out_p, out_n, None)
+            }
+            (SkinMethod::WeightBlended(b), false) => {
+                self.mixed_loop::<false>(start, out_p, out_n, Some(b))
+            }
+            (SkinMethod::WeightBlended(b), true) => {
+                self.mixed_loop::<true>(start, out_p, out_n, Some(b))
+            }
+        }
+    }
+
+    fn lbs_loop<const N: bool>(&self, start: usize, out_p: &mut [Vec3], out_n: &mut [Vec3]) {
+        for (i, p_out) in out_p.iter_mut().enumerate() {
+            let v = start + i;
+            let rest = self.positions.get(v).copied().unwrap_or(Vec3::ZERO);
+            let (js, ws) = self.row(v);
+            let m = match (<&[u32; 4]>::try_from(js), <&[f32; 4]>::try_from(ws)) {
+                (Ok(j4), Ok(w4)) => blend_matrix(j4, w4, self.palette),
+                _ => blend_matrix(js, ws, self.palette),
+            };
+            let Some(m) = m else {
+                *p_out = rest;
+                if N {
+                    if let (Some(o), Some(n)) = (out_n.get_mut(i), self.normals.get(v)) {
+                        *o = *n;
+                    }
+                }
+                continue;
+            };
+            let p = Vec4::from((rest, 1.0));
+            *p_out = (m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3]).truncate();
+            if N {
+                if let (Some(o), Some(&n)) = (out_n.get_mut(i), self.normals.get(v)) {
+                    *o = cofactor_transform(&m, n.into())
+                        .try_normalize()
+                        .map_or(n, Vec3::from);
+                }
+            }
+        }
+    }
+
+    fn mixed_loop<const N: bool>(
+        &self,
+        start: usize,
+        out_p: &mut [Vec3],
+        out_n: &mut [Vec3],
+        blend: Option<&[f32]>,
+    ) {
+        for (i, p_out) in out_p.iter_mut().enumerate() {
+            let v = start + i;
+            let rest = self.positions.get(v).copied().unwrap_or(Vec3::ZERO);
+            let rest_n = if N {
+                self.normals.get(v).copied().unwrap_or(Vec3::Y)
+            } else {
+                Vec3::Y
+            };
+            let (js, ws) = self.row(v);
+            let (mut p, mut n) = match self.dqs_vertex::<N>(js, ws, rest.into(), rest_n.into()) {
+                Some(pn) => pn,
+                None => (rest.into(), rest_n.into()),
+            };
+            if let Some(bw) = blend {
+                let b = bw.get(v).copied().unwrap_or(0.0);
+                let b = if b.is_nan() { 0.0 } else { b.clamp(0.0, 1.0) };
+                if b < 1.0 {
+                    let (lp, ln) = match blend_matrix(js, ws, self.palette) {
+                        Some(m) => {
+                            let q = Vec4::from((rest, 1.0));
+                            let lp = Vec3A::from_vec4(m[0] * q.x + m[1] * q.y + m[2] * q.z + m[3]);
+                            let ln = if N {
+                                cofactor_transform(&m, rest_n.into()).normalize_or(rest_n.into())
+                            } else {
+                                n
+                            };
+                            (lp, ln)
+                        }
+                        None => (rest.into(), rest_n.into()),
+                    };
+                    p = lp + (p - lp) * b;
+                    n = (ln + (n - ln) * b).normalize_or(rest_n.into());
+                }
+            }
+            *p_out = p.into();
+            if N {
+                if let Some(o) = out_n.get_mut(i) {
+                    *o = n.into();
+                }
+            }
+        }
+    }
+
+    /// DQS for one vertex; `None` when the vertex has no usable influence.
+    #[inline(always)]
+    fn dqs_vertex<const N: bool>(
+        &self,
+        js: &[u32],
+        ws: &[f32],
+        p: Vec3A,
+        n: Vec3A,
+    ) -> Option<(Vec3A, Vec3A)> {
+        let (mut real, mut dual) = (Vec4::ZERO, Vec4::ZERO);
+        let mut stretch = Mat3A::ZERO;
+        let mut pivot: Option<Vec4> = None;
+        let mut sum = 0.0f32;
+        for (&j, &w) in js.iter().zip(ws) {
+            let Some(joint) = self.dq.get(j as usize) else {
+                continue;
+            };
+            if !w.is_finite() {
+                continue;
+            }
+            let pv = *pivot.get_or_insert(joint.dq.real);
+            let sw = if pv.dot(joint.dq.real) < 0.0 { -w } else { w };
+            real += joint.dq.real * sw;
+            dual += joint.dq.dual * sw;
+            if self.has_stretch {
+                stretch += joint.stretch * w;
+            }
+            sum += w;
+        }
+        if sum == 0.0 {
+            return None;
+        }
+        let dq = DualQuat { real, dual }.normalized()?;
+        if self.has_stretch {
+            let sp = stretch * p;
+            let sn = if N { cofactor3(&stretch) * n } else { n };
+            Some((dq.transform_point(sp), dq.rotate(sn).normalize_or(n)))
+        } else {
+            Some((
+                dq.transform_point(p),
+                if N { dq.rotate(n).normalize_or(n) } else { n },
+            ))
+        }
+    }
+}
+
+/// `Σ wᵢ Mᵢ` over the valid influences as four columns; `None` when the weights sum to 0.
+#[inline(always)]
+fn blend_matrix(js: &[u32], ws: &[f32], palette: &[Mat4]) -> Option<[Vec4; 4]> {
+    let mut c = [Vec4::ZERO; 4];
+    let mut sum = 0.0f32;
+    for (&j, &w) in js.iter().zip(ws) {
+        let Some(m) = palette.get(j as usize) else {
+            continue;
+        };
+        if !w.is_finite() {
+            continue;
+        }
+        c[0] += m.x_axis * w;
+        c[1] += m.y_axis * w;
+        c[2] += m.z_axis * w;
+        c[3] += m.w_axis * w;
+        sum += w;
+    }
+    (sum != 0.0).then_some(c)
+}
+
+/// Cofactor (adjugate transpose) of the upper 3×3 of `m` applied to `n`.
+#[inline(always)]
+fn cofactor_transform(m: &[Vec4; 4], n: Vec3A) -> Vec3A {
+    let (a, b, c) = (
+        Vec3A::from_vec4(m[0]),
+        Vec3A::from_vec4(m[1]),
+        Vec3A::from_vec4(m[2]),
+    );
+    b.cross(c) * n.x + c.cross(a) * n.y + a.cross(b) * n.z
+}
+
+/// Cofactor matrix of a 3×3 (columns `b×c, c×a, a×b`).
+#[inline(always)]
+fn cofactor3(m: &Mat3A) -> Mat3A {
+    Mat3A::from_cols(
+        m.y_axis.cross(m.z_axis),
+        m.z_axis.cross(m.x_axis),
+        m.x_axis.cross(m.y_axis),
+    )
+}

@@ -1,0 +1,225 @@
+//! B-spline curves for spline IK: de Boor evaluation, derivatives and an arc-length table.
+//!
+//! [`BSpline`] evaluates a [`Curve`] (non-rational B-spline) with de Boor's algorithm.
+//! - Empty `knots`, open form: uniform clamped knots `[0; p+1], 1, 2, …, [n-p; p+1]`
+//!   (Maya's parameterisation: the domain is `[0, spans]`).
+//! - Empty `knots`, periodic form: `points` are the distinct control points; the first
+//!   `degree` are appended again and uniform unclamped knots used, domain `[0, n]`.
+//! - Explicit `knots`: either `points + degree + 1` values, or Maya's
+//!   `points + degree - 1` (the first and last knot, which never affect the curve, are
+//!   padded by repetition). Periodic curves with explicit knots are taken as Maya stores
+//!   them (wrapped points included). Knots must be finite and non-decreasing.
+
+// The one line to change when moving into sinew-nodes: `pub use sinew_core::data::{Curve, CurveForm};`
+pub use super::super::data::{Curve, CurveForm};
+
+use glam::DVec3;
+
+/// Samples per non-empty knot span in the arc-length table.
+const SAMPLES_PER_SPAN: usize = 64;
+
+/// A validated, ready-to-evaluate B-spline.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BSpline {
+    degree: usize,
+    points: Vec<DVec3>,
+    knots: Vec<f64>,
+    /// Control points of the derivative (degree - 1) curve, over `knots[1..len-1]`.
+    dpoints: Vec<DVec3>,
+    periodic: bool,
+}
+
+impl BSpline {
+    /// Validates `curve` and builds the evaluator; the error says what is wrong and how to fix it.
+    pub fn new(curve: &Curve) -> Result<Self, String> {
+        let p = curve.degree as usize;
+        if p == 0 {
+            return Err("degree must be at least 1".into());
+        }
+        let mut points = curve.points.clone();
+        if points.iter().any(|q| !q.is_finite()) {
+            return Err("a control point is NaN or infinite".into());
+        }
+        if points.len() < p + 1 {
+            return Err(format!(
+                "a degree-{p} curve needs at least {} control points, got {}",
+                p + 1,
+                points.len()
+            ));
+        }
+        let periodic = curve.form == CurveForm::Periodic;
+        let knots = if curve.knots.is_empty() {
+            if periodic {
+                points.extend_from_within(0..p);
+                (0..points.len() + p + 1)
+                    .map(|j| j as f64 - p as f64)
+                    .collect()
+            } else {
+                let n = points.len();
+                (0..n + p + 1)
+                    .map(|j| (j.saturating_sub(p)).min(n - p) as f64)
+                    .collect()
+            }
+        } else {
+            let n = points.len();
+            let mut k = curve.knots.clone();
+            if k.len() + 2 == n + p + 1 {
+                k.insert(0, k[0]);
+                k.push(k[k.len() - 1]);
+            }
+            if k.len() != n + p + 1 {
+                return Err(format!(
+                    "{n} points of degree {p} need {} knots (or Maya's {}), got {}",
+                    n + p + 1,
+                    n + p - 1,
+                    curve.knots.len()
+                ));
+            }
+            if k.iter().any(|x| !x.is_finite()) || k.windows(2).any(|w| w[0] > w[1]) {
+                return Err("knots must be finite and non-decreasing".into());
+            }
+            k
+        };
+        let n = points.len();
+        if knots[p] >= knots[n] {
+            return Err("the curve's parameter domain is empty (repeated knots)".into());
+        }
+        let dpoints = (0..n - 1)
+            .map(|i| {
+                let den = knots[i + p + 1] - knots[i + 1];
+                if den > 0.0 {
+                    (points[i + 1] - points[i]) * (p as f64 / den)
+                } else {
+                    DVec3::ZERO
+                }
+            })
+            .collect();
+        Ok(BSpline {
+            degree: p,
+            points,
+            knots,
+            dpoints,
+            periodic,
+        })
+    }
+
+    /// The parameter domain `(start, end)`.
+    pub fn domain(&self) -> (f64, f64) {
+        (self.knots[self.degree], self.knots[self.points.len()])
+    }
+
+    /// True for a periodic (closed) curve.
+    pub fn is_periodic(&self) -> bool {
+        self.periodic
+    }
+
+    /// Maps `t` into the domain: wrapped for periodic curves, clamped otherwise.
+    pub fn normalize_param(&self, t: f64) -> f64 {
+        let (a, b) = self.domain();
+        if !t.is_finite() {
+            return a;
+        }
+        if self.periodic {
+            a + (t - a).rem_euclid(b - a)
+        } else {
+            t.clamp(a, b)
+        }
+    }
+
+    /// Index `k` of the knot span holding `t` (`knots[k] <= t < knots[k + 1]`, last span at the end).
+    fn span(&self, t: f64) -> usize {
+        let (p, n) = (self.degree, self.points.len());
+        let idx = self.knots[..n].partition_point(|&k| k <= t);
+        idx.saturating_sub(1).clamp(p, n - 1)
+    }
+
+    /// The curve point at parameter `t` (see [`Self::normalize_param`]).
+    pub fn point(&self, t: f64) -> DVec3 {
+        let t = self.normalize_param(t);
+        let k = self.span(t);
+        de_boor(self.degree, &self.knots, &self.points, k, t)
+    }
+
+    /// The first derivative `dC/dt` at parameter `t`.
+    pub fn derivative(&self, t: f64) -> DVec3 {
+        let t = self.normalize_param(t);
+        let k = self.span(t);
+        de_boor(self.degree - 1, &self.knots[1..], &self.dpoints, k - 1, t)
+    }
+}
+
+/// de Boor's algorithm for degree `p` in span `k` of `knots` over control points `pts`.
+fn de_boor(p: usize, knots: &[f64], pts: &[DVec3], k: usize, t: f64) -> DVec3 {
+    let mut d: Vec<DVec3> = (0..=p).map(|j| pts[j + k - p]).collect();
+    for r in 1..=p {
+        for j in (r..=p).rev() {
+            let i = j + k - p;
+            let den = knots[i + p + 1 - r] - knots[i];
+            let alpha = if den > 0.0 { (t - knots[i]) / den } else { 0.0 };
+            d[j] = d[j - 1] * (1.0 - alpha) + d[j] * alpha;
+        }
+    }
+    d[p]
+}
+
+/// Cumulative chord length against parameter, sampled densely, for arc-length lookups.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ArcLengthTable {
+    params: Vec<f64>,
+    lengths: Vec<f64>,
+}
+
+impl ArcLengthTable {
+    /// Samples `spline` with `SAMPLES_PER_SPAN` (64) chords per non-empty knot span.
+    pub fn new(spline: &BSpline) -> Self {
+        let (a, b) = spline.domain();
+        let mut params = vec![a];
+        for w in spline.knots.windows(2) {
+            let (k0, k1) = (w[0].max(a), w[1].min(b));
+            if k1 > k0 {
+                for s in 1..=SAMPLES_PER_SPAN {
+                    params.push(k0 + (k1 - k0) * s as f64 / SAMPLES_PER_SPAN as f64);
+                }
+            }
+        }
+        let mut lengths = Vec::with_capacity(params.len());
+        let mut acc = 0.0;
+        let mut prev = spline.point(a);
+        for &t in &params {
+            let q = spline.point(t);
+            acc += q.distance(prev);
+            prev = q;
+            lengths.push(acc);
+        }
+        ArcLengthTable { params, lengths }
+    }
+
+    /// Total arc length of the curve.
+    pub fn total(&self) -> f64 {
+        self.lengths.last().copied().unwrap_or(0.0)
+    }
+
+    /// Sample parameters, from the domain start to its end.
+    pub fn params(&self) -> &[f64] {
+        &self.params
+    }
+
+    /// The parameter at arc length `s` (clamped to `[0, total]`), interpolated between samples.
+    pub fn param_at(&self, s: f64) -> f64 {
+        let s = if s.is_finite() {
+            s.clamp(0.0, self.total())
+        } else {
+            0.0
+        };
+        let i = self
+            .lengths
+            .partition_point(|&l| l < s)
+            .min(self.lengths.len() - 1);
+        if i == 0 {
+            return self.params[0];
+        }
+        let (l0, l1) = (self.lengths[i - 1], self.lengths[i]);
+        let f = if l1 > l0 { (s - l0) / (l1 - l0) } else { 0.0 };
+        self.params[i - 1] + (self.params[i] - self.params[i - 1]) * f
+    }
+}

@@ -1,0 +1,302 @@
+//! ikSpline: a joint chain laid along a curve, with roll, twist and stretch.
+//!
+//! Curves are evaluated by [`super::curve`].
+//!
+//! # Placement
+//!
+//! Joints start at arc length `offset` from the curve start (periodic curves wrap).
+//! Without stretch each next joint is the first point further along the curve at
+//! exactly the rest bone length (chord) from the previous one, so bones keep their
+//! lengths and every joint lies on the curve; joints that run past the end of an open
+//! curve continue straight along its end tangent (status Unreachable, `error` = the
+//! chain length past the end). With `stretch`, joints sit at arc lengths
+//! `offset + s * cumulative_rest_length` with `s = remaining_arc / chain_length`
+//! (capped at `max_stretch`; shorter curves squash), and `bone_scale` reports each
+//! bone's chord over its rest length.
+//!
+//! # Orientation
+//!
+//! Each joint aims its rest bone direction at the next joint with the minimal rotation
+//! from its carried rest frame (a discrete parallel-transport frame: no twist beyond
+//! what the curve's bending forces). Then `roll` spins the start joint about its bone
+//! axis (carrying the whole chain), and `twist` is spread linearly: joint `i` of `n`
+//! bones adds `twist / n` about its own bone axis, so the end joint carries
+//! `roll + twist` in total. The end joint keeps its preferred rotation plus its twist
+//! share (its axis is the last bone's).
+//!
+//! # Root
+//!
+//! With `root_on_curve` the start joint moves onto the curve: `root_translate` is the
+//! start joint's new local translate (chain space is its parent space), for the plugin
+//! to connect to `translate`. Without it the root stays and the curve is used as if
+//! shifted rigidly so that its offset point sits on the root.
+//!
+//! The curve is given in world space (like Maya's `worldSpace[0]`) and mapped into
+//! chain space before anything is measured.
+
+use glam::{DQuat, DVec3};
+
+use super::chain::{Chain, IkError, IkSolution, IkStatus, Prepared, EPS};
+pub use super::curve::{ArcLengthTable, BSpline, Curve, CurveForm};
+
+/// Spline IK settings (ikHandle offset, roll, twist and stretch).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SplineParams {
+    /// Arc length along the curve where the start joint sits (Maya's 0–1 `offset` times the curve length).
+    pub offset: f64,
+    /// Rotation of the whole chain about the start joint's bone axis, radians.
+    pub roll: f64,
+    /// Twist added linearly from start (0) to end joint (`twist`), radians.
+    pub twist: f64,
+    /// Stretch (or squash) the bones so the chain spans the curve from `offset` to its end.
+    pub stretch: bool,
+    /// Cap on the stretch factor (`f64::INFINITY` = none).
+    pub max_stretch: f64,
+    /// Move the start joint onto the curve (see `SplineSolution::root_translate`).
+    pub root_on_curve: bool,
+}
+
+impl Default for SplineParams {
+    fn default() -> Self {
+        SplineParams {
+            offset: 0.0,
+            roll: 0.0,
+            twist: 0.0,
+            stretch: false,
+            max_stretch: f64::INFINITY,
+            root_on_curve: true,
+        }
+    }
+}
+
+/// Spline IK result: rotations and stretch, plus the start joint's new translate.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SplineSolution {
+    /// Rotations, bone scales and status (`iterations` is 0).
+    pub solution: IkSolution,
+    /// The start joint's local translate (its rest translate unless `root_on_curve`).
+    pub root_translate: DVec3,
+    /// Per joint, the curve parameter it sits at, or `None` past the end of the curve.
+    pub curve_params: Vec<Option<f64>>,
+    /// Arc length of the curve in chain space.
+    pub curve_length: f64,
+}
+
+/// ikSpline: lays the chain along `curve` (world space) and returns joint rotations.
+pub fn solve_spline(chain: &Chain, curve: &Curve, params: &SplineParams) -> SplineSolution {
+    let fail = |e: IkError| SplineSolution {
+        solution: IkSolution::invalid(chain, e),
+        root_translate: chain.joints.first().map_or(DVec3::ZERO, |j| j.translate),
+        curve_params: vec![None; chain.joints.len()],
+        curve_length: 0.0,
+    };
+    let prep = match Prepared::new(chain) {
+        Ok(p) => p,
+        Err(e) => return fail(e),
+    };
+    let finite = [params.offset, params.roll, params.twist]
+        .iter()
+        .all(|x| x.is_finite());
+    if !finite || params.max_stretch.is_nan() {
+        return fail(IkError::NonFinite("spline parameters"));
+    }
+    let n = prep.joints.len();
+    if n < 2 {
+        return fail(IkError::JointCount {
+            needed: "at least 2",
+            got: n,
+        });
+    }
+    let mut local = curve.clone();
+    for q in &mut local.points {
+        *q = prep.to_chain.transform_point3(*q);
+    }
+    let spline = match BSpline::new(&local) {
+        Ok(s) => s,
+        Err(msg) => return fail(IkError::Curve(msg)),
+    };
+    let table = ArcLengthTable::new(&spline);
+    let total = table.total();
+    if total.is_nan() || total <= EPS {
+        return fail(IkError::Curve("the curve has zero length".into()));
+    }
+    let lengths = prep.bone_lengths();
+    let chain_len: f64 = lengths.iter().sum();
+    let start_s = if spline.is_periodic() {
+        params.offset.rem_euclid(total)
+    } else {
+        params.offset.clamp(0.0, total)
+    };
+    let t0 = table.param_at(start_s);
+    let c0 = spline.point(t0);
+    let shift = if params.root_on_curve {
+        DVec3::ZERO
+    } else {
+        prep.joints[0].translate - c0
+    };
+    let mut pos = vec![c0 + shift];
+    let mut cparams = vec![Some(t0)];
+    let mut bone_scale = vec![1.0; n];
+    let mut overrun = 0.0;
+    if params.stretch && chain_len > EPS {
+        let remaining = if spline.is_periodic() {
+            total
+        } else {
+            total - start_s
+        };
+        let s = (remaining / chain_len).min(params.max_stretch.max(0.0));
+        let mut acc = start_s;
+        for (i, l) in lengths.iter().enumerate() {
+            acc += l * s;
+            let arc = if spline.is_periodic() {
+                acc.rem_euclid(total)
+            } else {
+                acc.min(total)
+            };
+            let t = table.param_at(arc);
+            let q = spline.point(t) + shift;
+            bone_scale[i] = if *l > EPS {
+                q.distance(pos[i]) / l
+            } else {
+                1.0
+            };
+            pos.push(q);
+            cparams.push(Some(t));
+        }
+    } else {
+        let mut t = t0;
+        let mut off_curve = false;
+        for l in &lengths {
+            let prev = pos[pos.len() - 1] - shift;
+            let next = if off_curve {
+                None
+            } else {
+                next_on_curve(&spline, &table, t, prev, *l)
+            };
+            match next {
+                Some(tn) => {
+                    t = tn;
+                    pos.push(spline.point(tn) + shift);
+                    cparams.push(Some(spline.normalize_param(tn)));
+                }
+                None => {
+                    let q = extrapolate(&spline, t, prev, *l, &pos);
+                    overrun += if off_curve || spline.is_periodic() {
+                        *l
+                    } else {
+                        q.distance(spline.point(spline.domain().1))
+                    };
+                    off_curve = true;
+                    pos.push(q + shift);
+                    cparams.push(None);
+                }
+            }
+        }
+    }
+    let mut sprep = prep.clone();
+    sprep.joints[0].translate = pos[0];
+    for i in 1..n {
+        sprep.joints[i].translate *= bone_scale[i - 1];
+    }
+    let mut twist = vec![params.twist / (n - 1) as f64; n];
+    twist[0] = params.roll;
+    let rotations =
+        sprep.rotations_from_positions(&pos, DQuat::IDENTITY, DVec3::ZERO, Some(&twist));
+    let status = if overrun > 0.0 {
+        IkStatus::Unreachable
+    } else {
+        IkStatus::Reached
+    };
+    SplineSolution {
+        solution: IkSolution {
+            rotations,
+            bone_scale,
+            iterations: 0,
+            error: overrun,
+            status,
+        },
+        root_translate: pos[0],
+        curve_params: cparams,
+        curve_length: total,
+    }
+}
+
+/// First parameter after `t` whose curve point is exactly `len` from `from` (bisection
+/// between table samples); `None` if the curve ends (or, periodic, loops once) first.
+fn next_on_curve(
+    spline: &BSpline,
+    table: &ArcLengthTable,
+    t: f64,
+    from: DVec3,
+    len: f64,
+) -> Option<f64> {
+    if len <= EPS {
+        return Some(t);
+    }
+    let (a, b) = spline.domain();
+    let period = b - a;
+    let samples = table.params();
+    let (laps, base) = if spline.is_periodic() {
+        (2, (t - a).div_euclid(period) * period)
+    } else {
+        (1, 0.0)
+    };
+    let mut lo = t;
+    for lap in 0..laps {
+        for &s in samples {
+            let hi = s + base + lap as f64 * period;
+            if hi <= lo {
+                continue;
+            }
+            if hi > t + period {
+                return None;
+            }
+            if spline.point(hi).distance(from) >= len {
+                let (mut x0, mut x1) = (lo, hi);
+                for _ in 0..200 {
+                    let mid = 0.5 * (x0 + x1);
+                    if mid <= x0 || mid >= x1 {
+                        break;
+                    }
+                    if spline.point(mid).distance(from) >= len {
+                        x1 = mid;
+                    } else {
+                        x0 = mid;
+                    }
+                }
+                return Some(x1);
+            }
+            lo = hi;
+        }
+    }
+    None
+}
+
+/// Places a joint `len` from `prev` past the end of an open curve, on the line through
+/// the curve's end along its end tangent; for periodic curves (no chord found within a
+/// loop), along the tangent at `t`.
+fn extrapolate(spline: &BSpline, t: f64, prev: DVec3, len: f64, pos: &[DVec3]) -> DVec3 {
+    let back = if pos.len() >= 2 {
+        pos[pos.len() - 1] - pos[pos.len() - 2]
+    } else {
+        DVec3::ZERO
+    };
+    let tangent_at = |t: f64| {
+        spline
+            .derivative(t)
+            .try_normalize()
+            .or_else(|| back.try_normalize())
+            .unwrap_or(DVec3::X)
+    };
+    if spline.is_periodic() {
+        return prev + tangent_at(t) * len;
+    }
+    let end_t = spline.domain().1;
+    let end = spline.point(end_t);
+    let dir = tangent_at(end_t);
+    // Solve |end + dir * x - prev| = len for the larger root x (prev is within len of the end).
+    let q = end - prev;
+    let b = q.dot(dir);
+    let disc = (b * b - q.length_squared() + len * len).max(0.0);
+    end + dir * (-b + disc.sqrt()).max(0.0)
+}

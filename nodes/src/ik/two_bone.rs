@@ -1,0 +1,258 @@
+//! ikRP: rotate-plane IK — exact two-bone solve, and plane-constrained FABRIK for longer chains.
+//!
+//! # Maya's conventions (Autodesk ikRPsolver and ikHandle node docs, glossary "pole vector")
+//!
+//! - The pole vector "begins at the start joint" and, with the handle vector (start
+//!   joint → goal), defines the **reference plane**. Here `pole_vector` is a world-space
+//!   vector relative to the start joint's world position: the plane holds `start`,
+//!   `goal` and `start + pole_vector`. (Maya reads `ikHandle.poleVector` in the handle's
+//!   parent space; the plugin maps it to world space before calling.)
+//! - The solver rotates the start joint so the chain's own plane (its **intrinsic
+//!   plane**: the plane of its joints when they are coplanar) aligns with the reference
+//!   plane, "with an offset given by the twist attribute". Here `twist` (radians) turns
+//!   the plane right-handedly about the start→goal axis.
+//! - The chain bends towards the pole: the middle joint lies in the plane on the pole
+//!   side of the start→goal line.
+//!
+//! # Rotations
+//!
+//! The rest pose (preferred rotations) fixes the chain's intrinsic bend direction `w_r`
+//! (perpendicular to the rest start→end axis `u_r`, towards the middle joints). A
+//! root pre-rotation `A` takes the frame (`u_r`, `w_r`) onto (`u`, `w`), where `u` is
+//! the start→goal direction and `w` the in-plane direction towards the (twisted) pole.
+//! Each joint then takes the minimal rotation aiming its bone at its solved child;
+//! for a planar chain every such rotation is about the plane normal, so the middle
+//! joint only bends about its own rest bend axis.
+//!
+//! # Degenerate cases
+//!
+//! - Pole vector zero or collinear with start→goal: the rest bend plane is kept (its
+//!   bend direction carried by the minimal rotation from `u_r` to `u`).
+//! - Straight rest chain (no intrinsic plane): the bend goes towards the pole.
+//! - Goal at the start joint: `u` falls back to the rest start→end direction.
+//! - Goal beyond reach: the chain lies straight along start→goal (status Unreachable).
+//! - Goal closer than `|a - b|` (two-bone): folded as far as the bones allow.
+
+use glam::{DQuat, DVec3};
+
+use super::chain::{
+    frame_to_frame, straight_positions, Chain, IkError, IkSolution, IkStatus, Prepared, EPS,
+};
+use super::iterative::{aim_axis, fabrik_positions, IterParams};
+use super::soft::{reach, ReachParams};
+
+/// Rotate-plane settings (ikHandle.poleVector and ikHandle.twist).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RpParams {
+    /// World-space vector from the start joint towards the side the chain bends to.
+    pub pole_vector: DVec3,
+    /// Rotation of the bend plane about the start→goal axis, in radians.
+    pub twist: f64,
+}
+
+impl Default for RpParams {
+    fn default() -> Self {
+        RpParams {
+            pole_vector: DVec3::Y,
+            twist: 0.0,
+        }
+    }
+}
+
+/// Interior angles of a triangle with sides `a` (upper bone), `b` (lower bone) and
+/// `d` (start→goal distance), by the law of cosines: `(angle at start, angle at middle)`.
+///
+/// `d` is first clamped to `[|a - b|, a + b]`, so the result is always finite; the
+/// middle joint's bend away from straight is `PI - angle_at_middle`.
+pub fn law_of_cosines(a: f64, b: f64, d: f64) -> (f64, f64) {
+    let d = d.clamp((a - b).abs(), a + b);
+    let cos_start = if a > EPS && d > EPS {
+        ((a * a + d * d - b * b) / (2.0 * a * d)).clamp(-1.0, 1.0)
+    } else {
+        1.0
+    };
+    let cos_mid = if a > EPS && b > EPS {
+        ((a * a + b * b - d * d) / (2.0 * a * b)).clamp(-1.0, 1.0)
+    } else {
+        -1.0
+    };
+    (cos_start.acos(), cos_mid.acos())
+}
+
+/// ikRP for exactly three joints (start, middle, end): exact law-of-cosines solve.
+pub fn solve_two_bone(
+    chain: &Chain,
+    goal: DVec3,
+    rp: &RpParams,
+    reach: &ReachParams,
+) -> IkSolution {
+    if chain.joints.len() != 3 {
+        let got = chain.joints.len();
+        return IkSolution::invalid(
+            chain,
+            IkError::JointCount {
+                needed: "exactly 3",
+                got,
+            },
+        );
+    }
+    solve_rotate_plane(chain, goal, rp, reach, &IterParams::default())
+}
+
+/// ikRP for chains of 2 or more joints: analytic for 3 joints, plane-constrained FABRIK beyond.
+///
+/// For longer chains the rest pose is first rotated so its intrinsic plane is the
+/// reference plane, then FABRIK runs inside that plane (it stays planar for planar
+/// chains; non-planar rest chains are aligned once and then solved freely). A single
+/// bone just aims at the goal, rolled so its rest bend plane faces the pole.
+pub fn solve_rotate_plane(
+    chain: &Chain,
+    goal: DVec3,
+    rp: &RpParams,
+    reach_params: &ReachParams,
+    iter: &IterParams,
+) -> IkSolution {
+    let prep = match Prepared::new(chain) {
+        Ok(p) => p,
+        Err(e) => return IkSolution::invalid(chain, e),
+    };
+    if !goal.is_finite() {
+        return IkSolution::invalid(chain, IkError::NonFinite("goal"));
+    }
+    if !rp.pole_vector.is_finite() || !rp.twist.is_finite() {
+        return IkSolution::invalid(chain, IkError::NonFinite("pole vector or twist"));
+    }
+    if !reach_params.is_valid() || iter.tolerance.is_nan() {
+        return IkSolution::invalid(chain, IkError::NonFinite("solver parameters"));
+    }
+    let n = prep.joints.len();
+    if n < 2 {
+        return IkSolution::invalid(
+            chain,
+            IkError::JointCount {
+                needed: "at least 2",
+                got: n,
+            },
+        );
+    }
+    let g = prep.to_chain.transform_point3(goal);
+    let pole = prep.to_chain.transform_vector3(rp.pole_vector);
+    let lengths = prep.bone_lengths();
+    let total: f64 = lengths.iter().sum();
+    let (rest_pos, _) = prep.fk(&prep.rest_rot);
+    let p0 = rest_pos[0];
+    let r = reach(g.distance(p0), total, reach_params);
+    let sprep = prep.scaled(r.scale);
+    let slen: Vec<f64> = lengths.iter().map(|l| l * r.scale).collect();
+    let stotal = total * r.scale;
+    let spos: Vec<DVec3> = rest_pos.iter().map(|p| p0 + (*p - p0) * r.scale).collect();
+
+    let u = aim_axis(g - p0, &rest_pos);
+    let planes = Planes::new(&spos, u, pole, rp.twist);
+    let normal = u.cross(planes.w);
+    let a = planes.pre_rotation();
+
+    let mut iterations = 0;
+    let mut converged = true;
+    let targets = if r.distance >= stotal - EPS * stotal.max(1.0) {
+        straight_positions(p0, u, &slen)
+    } else if n == 3 {
+        let (la, lb) = (slen[0], slen[1]);
+        let (start_angle, _) = law_of_cosines(la, lb, r.distance);
+        let d = r.distance.clamp((la - lb).abs(), la + lb);
+        let knee = p0 + (u * start_angle.cos() + planes.w * start_angle.sin()) * la;
+        vec![p0, knee, p0 + u * d]
+    } else {
+        let mut pos: Vec<DVec3> = spos.iter().map(|p| p0 + a * (*p - p0)).collect();
+        let tol = iter.tolerance.max(0.0);
+        let (it, err) = fabrik_positions(
+            &mut pos,
+            &slen,
+            p0 + u * r.distance,
+            tol,
+            iter.max_iterations,
+        );
+        iterations = it;
+        converged = err <= tol;
+        pos
+    };
+    let rotations = sprep.rotations_from_positions(&targets, a, normal, None);
+    let mut bone_scale = vec![r.scale; n];
+    bone_scale[n - 1] = 1.0;
+    let error = sprep.world_error(&rotations, goal);
+    let status = if !converged {
+        IkStatus::NotConverged
+    } else if r.shortened || (n == 3 && r.distance < (slen[0] - slen[1]).abs() - EPS) {
+        IkStatus::Unreachable
+    } else {
+        IkStatus::Reached
+    };
+    IkSolution {
+        rotations,
+        bone_scale,
+        iterations,
+        error,
+        status,
+    }
+}
+
+/// The rest frame (`u_r`, `w_r`) and the target frame (`u`, `w`) of the bend plane.
+struct Planes {
+    u_r: DVec3,
+    w_r: DVec3,
+    u: DVec3,
+    w: DVec3,
+}
+
+impl Planes {
+    /// Builds both frames from rest positions, the goal direction `u`, the chain-space pole and twist.
+    fn new(rest: &[DVec3], u: DVec3, pole: DVec3, twist: f64) -> Self {
+        let p0 = rest[0];
+        let end = rest[rest.len() - 1];
+        let u_r = aim_axis(end - p0, rest);
+        // Intrinsic bend direction: the joints' summed offsets perpendicular to u_r
+        // (for a single bone, the joint's own rest frame has no bend: None).
+        let bend: DVec3 = rest
+            .iter()
+            .map(|p| {
+                let v = *p - p0;
+                v - u_r * v.dot(u_r)
+            })
+            .sum();
+        let scale = rest
+            .iter()
+            .map(|p| p.distance(p0))
+            .fold(0.0, f64::max)
+            .max(1.0);
+        let w_rest = perp(bend, u_r).filter(|_| bend.length() > 1e-9 * scale);
+        // Minimal rotation from the rest axis to the goal axis.
+        let carry = super::chain::aim(u_r, u, DVec3::ZERO);
+        let pole_w = perp(pole, u).filter(|_| pole.length() > EPS);
+        let w0 = match (pole_w, w_rest) {
+            (Some(w), _) => w,
+            (None, Some(wr)) => perp(carry * wr, u).unwrap_or_else(|| u.any_orthonormal_vector()),
+            (None, None) => u.any_orthonormal_vector(),
+        };
+        let w = perp(DQuat::from_axis_angle(u, twist) * w0, u).unwrap_or(w0);
+        let w_r = match w_rest {
+            Some(wr) => wr,
+            None => perp(carry.inverse() * w, u_r).unwrap_or_else(|| u_r.any_orthonormal_vector()),
+        };
+        Planes { u_r, w_r, u, w }
+    }
+
+    /// Root pre-rotation aligning the intrinsic plane with the reference plane.
+    fn pre_rotation(&self) -> DQuat {
+        frame_to_frame(self.u_r, self.w_r, self.u, self.w)
+    }
+}
+
+/// `v` made perpendicular to unit `u` and normalized, if it does not vanish.
+fn perp(v: DVec3, u: DVec3) -> Option<DVec3> {
+    let p = v - u * v.dot(u);
+    if p.length() > 1e-9 * v.length().max(EPS) {
+        p.try_normalize()
+    } else {
+        None
+    }
+}

@@ -1,0 +1,714 @@
+//! glTF 2.0 reader: `.gltf` (external `.bin` files or `data:` URIs) and `.glb` into a
+//! [`Scene`].
+//!
+//! The `gltf` crate parses and schema-validates the JSON (index ranges, enums,
+//! required fields). Everything that touches bytes is done here with explicit bounds
+//! checks, so corrupt files give a [`GltfError`] and never a panic: the GLB container,
+//! buffer loading, accessor reads (strides, sparse substitution, normalized integers),
+//! NaN/infinity, vertex and joint index ranges, hierarchy cycles and animation key
+//! counts.
+
+use std::path::Path;
+
+use base64::Engine as _;
+use glam::{Mat4, Quat, Vec2, Vec3};
+use gltf::accessor::{DataType, Dimensions};
+use gltf::animation::{Interpolation as GInterp, Property};
+use gltf::mesh::{Mode, Semantic};
+
+use super::scene::{
+    AnimPath, Animation, AnimationChannel, GltfError, Interpolation, MorphTarget, Node, Primitive,
+    Scene, SceneMesh, Skin,
+};
+use crate::data::Weights;
+
+/// Reads a `.gltf` or `.glb` file; external buffers resolve relative to its folder.
+pub fn read_gltf(path: impl AsRef<Path>) -> Result<Scene, GltfError> {
+    let path = path.as_ref();
+    let bytes = std::fs::read(path).map_err(|source| GltfError::Io {
+        path: path.display().to_string(),
+        source,
+    })?;
+    read_gltf_slice(&bytes, path.parent())
+}
+
+/// Reads glTF from memory (JSON or GLB, detected by the `glTF` magic). External buffer
+/// files resolve relative to `base_dir`; without one, only GLB and `data:` buffers load.
+pub fn read_gltf_slice(bytes: &[u8], base_dir: Option<&Path>) -> Result<Scene, GltfError> {
+    let (json, bin) = if bytes.starts_with(b"glTF") {
+        split_glb(bytes)?
+    } else {
+        (bytes, None)
+    };
+    let root: gltf::json::Root =
+        gltf::json::deserialize::from_slice(json).map_err(|e| GltfError::Json(e.to_string()))?;
+    check_animation_targets(&root)?;
+    let doc = gltf::Document::from_json(root).map_err(|e| match e {
+        gltf::Error::Validation(list) => GltfError::Validation(
+            list.iter()
+                .take(10)
+                .map(|(path, err)| format!("{path}: {err}"))
+                .collect::<Vec<_>>()
+                .join("; "),
+        ),
+        other => GltfError::Validation(other.to_string()),
+    })?;
+    let buffers = load_buffers(&doc, bin, base_dir)?;
+    Reader { doc: &doc, buffers }.scene()
+}
+
+/// gltf-json 1.4's `Animation` validation skips channel targets (node index and
+/// path), and the crate's accessors unwrap them later, so check them here first.
+fn check_animation_targets(root: &gltf::json::Root) -> Result<(), GltfError> {
+    use gltf::json::validation::Validate;
+    let mut problems = Vec::new();
+    for (a, anim) in root.animations.iter().enumerate() {
+        for (c, ch) in anim.channels.iter().enumerate() {
+            let path = || {
+                gltf::json::Path::new()
+                    .field("animations")
+                    .index(a)
+                    .field("channels")
+                    .index(c)
+                    .field("target")
+            };
+            ch.target
+                .validate(root, path, &mut |p, e| problems.push(format!("{}: {e}", p())));
+        }
+    }
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(GltfError::Validation(problems.join("; ")))
+    }
+}
+
+/// Splits a GLB container into its JSON chunk and optional BIN chunk, checking every
+/// length against the data actually present (GLB 2.0, section "Binary glTF Layout").
+fn split_glb(bytes: &[u8]) -> Result<(&[u8], Option<&[u8]>), GltfError> {
+    let bad = |m: String| GltfError::Glb(m);
+    let u32_at = |o: usize| -> Option<usize> {
+        let b = bytes.get(o..o + 4)?;
+        Some(u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize)
+    };
+    let version = u32_at(4).ok_or_else(|| bad("file ends inside the 12-byte header".into()))?;
+    if version != 2 {
+        return Err(bad(format!("version {version}, only glTF 2 is supported")));
+    }
+    let total = u32_at(8).ok_or_else(|| bad("file ends inside the 12-byte header".into()))?;
+    if total > bytes.len() || total < 20 {
+        return Err(bad(format!(
+            "header declares {total} bytes but the file has {} (truncated?)",
+            bytes.len()
+        )));
+    }
+    let mut chunks = Vec::new();
+    let mut at = 12;
+    while at < total {
+        let (Some(len), Some(ty)) = (u32_at(at), bytes.get(at + 4..at + 8)) else {
+            return Err(bad(format!("chunk header at byte {at} is cut off")));
+        };
+        let start = at + 8;
+        let end = start
+            .checked_add(len)
+            .filter(|&e| e <= total)
+            .ok_or_else(|| {
+                bad(format!(
+                    "chunk at byte {at} declares {len} bytes but only {} remain",
+                    total.saturating_sub(start)
+                ))
+            })?;
+        chunks.push((ty, &bytes[start..end]));
+        at = end;
+    }
+    match chunks.as_slice() {
+        [(b"JSON", json), rest @ ..] => {
+            let bin = rest.iter().find(|(t, _)| *t == b"BIN\0").map(|(_, d)| *d);
+            Ok((json, bin))
+        }
+        _ => Err(bad("the first chunk must be the JSON chunk".into())),
+    }
+}
+
+fn load_buffers(
+    doc: &gltf::Document,
+    bin: Option<&[u8]>,
+    base_dir: Option<&Path>,
+) -> Result<Vec<Vec<u8>>, GltfError> {
+    let mut out = Vec::new();
+    for buffer in doc.buffers() {
+        let index = buffer.index();
+        let err = |message: String| GltfError::Buffer { index, message };
+        let data = match buffer.source() {
+            gltf::buffer::Source::Bin => bin
+                .ok_or_else(|| err("refers to the GLB BIN chunk but the file has none".into()))?
+                .to_vec(),
+            gltf::buffer::Source::Uri(uri) if uri.starts_with("data:") => {
+                let (_, payload) = uri
+                    .split_once(";base64,")
+                    .ok_or_else(|| err("data: URI is not base64-encoded".into()))?;
+                base64::engine::general_purpose::STANDARD
+                    .decode(payload.trim())
+                    .map_err(|e| err(format!("bad base64 in data: URI: {e}")))?
+            }
+            gltf::buffer::Source::Uri(uri) => {
+                let dir = base_dir.ok_or_else(|| {
+                    err(format!(
+                        "refers to external file '{uri}' but no base directory was given"
+                    ))
+                })?;
+                let path = dir.join(percent_decode(uri));
+                std::fs::read(&path).map_err(|e| {
+                    err(format!("cannot read external file {}: {e}", path.display()))
+                })?
+            }
+        };
+        if data.len() < buffer.length() {
+            return Err(err(format!(
+                "declares {} bytes but only {} are present (truncated?)",
+                buffer.length(),
+                data.len()
+            )));
+        }
+        let mut data = data;
+        data.truncate(buffer.length());
+        out.push(data);
+    }
+    Ok(out)
+}
+
+/// Decodes `%XX` escapes in a relative URI (glTF URIs are RFC 3986).
+fn percent_decode(uri: &str) -> String {
+    let b = uri.as_bytes();
+    let mut out = Vec::with_capacity(b.len());
+    let mut i = 0;
+    while i < b.len() {
+        let hex = b.get(i + 1..i + 3).and_then(|h| std::str::from_utf8(h).ok());
+        match (b[i], hex.and_then(|h| u8::from_str_radix(h, 16).ok())) {
+            (b'%', Some(v)) => {
+                out.push(v);
+                i += 3;
+            }
+            (c, _) => {
+                out.push(c);
+                i += 1;
+            }
+        }
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}
+
+/// What kind of numbers an accessor may hold for a given use.
+#[derive(Clone, Copy, PartialEq)]
+enum Kind {
+    /// FLOAT only.
+    Float,
+    /// FLOAT or normalized unsigned byte/short (UVs, weights).
+    FloatOrUnorm,
+    /// FLOAT or any normalized integer (animation outputs for rotation and weights).
+    FloatOrNorm,
+    /// Unsigned integers, not normalized (indices, joints).
+    Uint,
+}
+
+struct Reader<'a> {
+    doc: &'a gltf::Document,
+    buffers: Vec<Vec<u8>>,
+}
+
+impl Reader<'_> {
+    /// Reads accessor `acc` as `f64` components, checking type, bounds and finiteness.
+    /// Returns the flat values; `dims` lists the accepted element types.
+    fn read(
+        &self,
+        acc: &gltf::Accessor,
+        dims: &[Dimensions],
+        kind: Kind,
+        ctx: &str,
+    ) -> Result<Vec<f64>, GltfError> {
+        let err = |message: String| GltfError::Accessor {
+            index: acc.index(),
+            context: ctx.to_string(),
+            message,
+        };
+        if !dims.contains(&acc.dimensions()) {
+            return Err(err(format!(
+                "type is {:?} but {:?} is required",
+                acc.dimensions(),
+                dims
+            )));
+        }
+        let dt = acc.data_type();
+        let ok = match kind {
+            Kind::Float => dt == DataType::F32,
+            Kind::FloatOrUnorm => {
+                dt == DataType::F32
+                    || (acc.normalized() && matches!(dt, DataType::U8 | DataType::U16))
+            }
+            Kind::FloatOrNorm => dt == DataType::F32 || (acc.normalized() && dt != DataType::U32),
+            Kind::Uint => {
+                !acc.normalized() && matches!(dt, DataType::U8 | DataType::U16 | DataType::U32)
+            }
+        };
+        if !ok {
+            return Err(err(format!(
+                "component type {dt:?}{} is not allowed here",
+                if acc.normalized() { " (normalized)" } else { "" }
+            )));
+        }
+        let width = acc.dimensions().multiplicity();
+        let count = acc.count();
+        let csize = dt.size();
+        if matches!(acc.dimensions(), Dimensions::Mat2 | Dimensions::Mat3) && csize < 4 {
+            return Err(err("padded small-component matrices are not supported".into()));
+        }
+        let total = count
+            .checked_mul(width)
+            .filter(|&t| t <= 1 << 28)
+            .ok_or_else(|| err(format!("count {count} is unreasonably large")))?;
+        let mut out = vec![0.0f64; total];
+        if let Some(view) = acc.view() {
+            let elem = width * csize;
+            let stride = view.stride().unwrap_or(elem);
+            if stride < elem {
+                return Err(err(format!("byteStride {stride} is smaller than the element ({elem} bytes)")));
+            }
+            let bytes = self.view_bytes(&view, acc.index(), ctx)?;
+            let need = if count == 0 {
+                0
+            } else {
+                acc.offset().saturating_add((count - 1).saturating_mul(stride)).saturating_add(elem)
+            };
+            let data = bytes.get(acc.offset()..).filter(|_| need <= bytes.len()).ok_or_else(|| {
+                err(format!(
+                    "needs {need} bytes of buffer view {} but it has {}",
+                    view.index(),
+                    bytes.len()
+                ))
+            })?;
+            for i in 0..count {
+                for c in 0..width {
+                    let o = i * stride + c * csize;
+                    out[i * width + c] = component(&data[o..o + csize], dt, acc.normalized());
+                }
+            }
+        }
+        if let Some(sparse) = acc.sparse() {
+            let n = sparse.count();
+            let iv = sparse.indices().view();
+            let ibytes = self.view_bytes(&iv, acc.index(), ctx)?;
+            let isize = match sparse.indices().index_type() {
+                gltf::accessor::sparse::IndexType::U8 => 1,
+                gltf::accessor::sparse::IndexType::U16 => 2,
+                gltf::accessor::sparse::IndexType::U32 => 4,
+            };
+            let vv = sparse.values().view();
+            let vbytes = self.view_bytes(&vv, acc.index(), ctx)?;
+            let elem = width * csize;
+            let ioff = sparse.indices().offset();
+            let voff = sparse.values().offset();
+            let short = || err(format!("sparse data for {n} elements does not fit its buffer views"));
+            let iend = ioff.saturating_add(n.saturating_mul(isize));
+            let vend = voff.saturating_add(n.saturating_mul(elem));
+            let idata = ibytes.get(ioff..iend).ok_or_else(short)?;
+            let vdata = vbytes.get(voff..vend).ok_or_else(short)?;
+            for s in 0..n {
+                let ib = &idata[s * isize..(s + 1) * isize];
+                let target = ib.iter().rev().fold(0usize, |a, &b| (a << 8) | b as usize);
+                if target >= count {
+                    return Err(err(format!("sparse index {target} is outside {count} elements")));
+                }
+                for c in 0..width {
+                    let o = s * elem + c * csize;
+                    out[target * width + c] = component(&vdata[o..o + csize], dt, acc.normalized());
+                }
+            }
+        }
+        if let Some(i) = out.iter().position(|x| !x.is_finite()) {
+            return Err(err(format!("element {} holds NaN or infinity", i / width.max(1))));
+        }
+        Ok(out)
+    }
+
+    fn view_bytes(
+        &self,
+        view: &gltf::buffer::View,
+        acc: usize,
+        ctx: &str,
+    ) -> Result<&[u8], GltfError> {
+        let b = self.buffers.get(view.buffer().index()).map(Vec::as_slice).unwrap_or(&[]);
+        b.get(view.offset()..view.offset().saturating_add(view.length()))
+            .ok_or_else(|| GltfError::Accessor {
+                index: acc,
+                context: ctx.to_string(),
+                message: format!(
+                    "buffer view {} (bytes {}..{}) reaches past the end of buffer {} ({} bytes)",
+                    view.index(),
+                    view.offset(),
+                    view.offset().saturating_add(view.length()),
+                    view.buffer().index(),
+                    b.len()
+                ),
+            })
+    }
+
+    fn vec3s(&self, acc: &gltf::Accessor, ctx: &str) -> Result<Vec<Vec3>, GltfError> {
+        let v = self.read(acc, &[Dimensions::Vec3], Kind::Float, ctx)?;
+        Ok(v.chunks_exact(3).map(|c| Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32)).collect())
+    }
+
+    fn scene(&self) -> Result<Scene, GltfError> {
+        let mut scene = Scene {
+            nodes: self.nodes()?,
+            ..Scene::default()
+        };
+        let sc = self.doc.default_scene().or_else(|| self.doc.scenes().next());
+        scene.roots = match sc {
+            Some(s) => s.nodes().map(|n| n.index()).collect(),
+            None => (0..scene.nodes.len()).filter(|&i| scene.nodes[i].parent.is_none()).collect(),
+        };
+        if let Some(&r) = scene.roots.iter().find(|&&r| scene.nodes[r].parent.is_some()) {
+            return Err(GltfError::Invalid(format!("scene root node {r} has a parent")));
+        }
+        for skin in self.doc.skins() {
+            let joints: Vec<usize> = skin.joints().map(|j| j.index()).collect();
+            let ibms = match skin.inverse_bind_matrices() {
+                None => vec![Mat4::IDENTITY; joints.len()],
+                Some(acc) => {
+                    let ctx = format!("inverseBindMatrices of skin {}", skin.index());
+                    let v = self.read(&acc, &[Dimensions::Mat4], Kind::Float, &ctx)?;
+                    if v.len() / 16 < joints.len() {
+                        return Err(GltfError::Invalid(format!(
+                            "skin {} has {} joints but only {} inverse bind matrices",
+                            skin.index(),
+                            joints.len(),
+                            v.len() / 16
+                        )));
+                    }
+                    v.chunks_exact(16)
+                        .take(joints.len())
+                        .map(|c| Mat4::from_cols_array(&std::array::from_fn(|i| c[i] as f32)))
+                        .collect()
+                }
+            };
+            scene.skins.push(Skin {
+                name: skin.name().map(str::to_owned),
+                joints,
+                inverse_bind_matrices: ibms,
+                skeleton: skin.skeleton().map(|n| n.index()),
+            });
+        }
+        for mesh in self.doc.meshes() {
+            scene.meshes.push(self.mesh(&mesh, &mut scene.warnings)?);
+        }
+        for anim in self.doc.animations() {
+            scene.animations.push(self.animation(&anim, &scene)?);
+        }
+        scene.validate().map_err(GltfError::Invalid)?;
+        Ok(scene)
+    }
+
+    fn nodes(&self) -> Result<Vec<Node>, GltfError> {
+        let mut nodes = Vec::new();
+        for n in self.doc.nodes() {
+            let mut node = Node {
+                name: n.name().map(str::to_owned),
+                children: n.children().map(|c| c.index()).collect(),
+                mesh: n.mesh().map(|m| m.index()),
+                skin: n.skin().map(|s| s.index()),
+                weights: n.weights().map(<[f32]>::to_vec).unwrap_or_default(),
+                ..Node::default()
+            };
+            match n.transform() {
+                gltf::scene::Transform::Matrix { matrix } => {
+                    let m = Mat4::from_cols_array_2d(&matrix);
+                    let (s, r, t) = m.to_scale_rotation_translation();
+                    node.matrix = Some(m);
+                    (node.translation, node.rotation, node.scale) = (t, r, s);
+                }
+                gltf::scene::Transform::Decomposed { translation, rotation, scale } => {
+                    node.translation = Vec3::from(translation);
+                    node.rotation = Quat::from_array(rotation);
+                    node.scale = Vec3::from(scale);
+                }
+            }
+            let finite = node.translation.is_finite()
+                && node.rotation.is_finite()
+                && node.scale.is_finite()
+                && node.matrix.map_or(true, |m| m.is_finite());
+            if !finite {
+                return Err(GltfError::Invalid(format!("node {}: non-finite transform", n.index())));
+            }
+            nodes.push(node);
+        }
+        for i in 0..nodes.len() {
+            for c in nodes[i].children.clone() {
+                if c == i {
+                    return Err(GltfError::Invalid(format!("node {i} lists itself as a child")));
+                }
+                if let Some(p) = nodes[c].parent {
+                    return Err(GltfError::Invalid(format!(
+                        "node {c} is a child of both node {p} and node {i}; glTF requires a tree"
+                    )));
+                }
+                nodes[c].parent = Some(i);
+            }
+        }
+        Ok(nodes)
+    }
+
+    fn mesh(&self, mesh: &gltf::Mesh, warnings: &mut Vec<String>) -> Result<SceneMesh, GltfError> {
+        let mut out = SceneMesh {
+            name: mesh.name().map(str::to_owned),
+            weights: mesh.weights().map(<[f32]>::to_vec).unwrap_or_default(),
+            target_names: target_names(mesh.extras()),
+            primitives: Vec::new(),
+        };
+        for prim in mesh.primitives() {
+            let ctx = |what: &str| format!("{what} of mesh {} primitive {}", mesh.index(), prim.index());
+            let topo = prim.mode();
+            if !matches!(topo, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
+                warnings.push(format!(
+                    "mesh {} primitive {}: {topo:?} primitive skipped (only triangles are imported)",
+                    mesh.index(),
+                    prim.index()
+                ));
+                continue;
+            }
+            let mut p = Primitive {
+                material: prim.material().index(),
+                ..Primitive::default()
+            };
+            let pos = prim
+                .get(&Semantic::Positions)
+                .ok_or_else(|| GltfError::Invalid(format!("{} is missing", ctx("POSITION"))))?;
+            p.mesh.positions = self.vec3s(&pos, &ctx("POSITION"))?;
+            let vc = p.mesh.positions.len();
+            let check_len = |len: usize, what: &str| {
+                if len == vc {
+                    Ok(())
+                } else {
+                    Err(GltfError::Invalid(format!("{} has {len} elements but POSITION has {vc}", ctx(what))))
+                }
+            };
+            if let Some(a) = prim.get(&Semantic::Normals) {
+                p.mesh.normals = self.vec3s(&a, &ctx("NORMAL"))?;
+                check_len(p.mesh.normals.len(), "NORMAL")?;
+            }
+            if let Some(a) = prim.get(&Semantic::TexCoords(0)) {
+                let v = self.read(&a, &[Dimensions::Vec2], Kind::FloatOrUnorm, &ctx("TEXCOORD_0"))?;
+                p.mesh.uvs = v.chunks_exact(2).map(|c| Vec2::new(c[0] as f32, c[1] as f32)).collect();
+                check_len(p.mesh.uvs.len(), "TEXCOORD_0")?;
+            }
+            let indices: Vec<u32> = match prim.indices() {
+                Some(a) => {
+                    let v = self.read(&a, &[Dimensions::Scalar], Kind::Uint, &ctx("indices"))?;
+                    if let Some(bad) = v.iter().position(|&i| i as usize >= vc) {
+                        return Err(GltfError::Invalid(format!(
+                            "{} entry {bad} is vertex {} but there are only {vc} vertices",
+                            ctx("indices"),
+                            v[bad]
+                        )));
+                    }
+                    v.into_iter().map(|i| i as u32).collect()
+                }
+                None => (0..vc as u32).collect(),
+            };
+            p.mesh.triangles = triangulate(topo, &indices).map_err(|m| GltfError::Invalid(format!("{}: {m}", ctx("indices"))))?;
+            p.skin_weights = self.skin_weights(&prim, vc, &ctx)?;
+            for (t, target) in prim.morph_targets().enumerate() {
+                let mut mt = MorphTarget::default();
+                if let Some(a) = target.positions() {
+                    mt.positions = self.vec3s(&a, &ctx(&format!("target {t} POSITION")))?;
+                    check_len(mt.positions.len(), &format!("target {t} POSITION"))?;
+                }
+                if let Some(a) = target.normals() {
+                    mt.normals = self.vec3s(&a, &ctx(&format!("target {t} NORMAL")))?;
+                    check_len(mt.normals.len(), &format!("target {t} NORMAL"))?;
+                }
+                p.targets.push(mt);
+            }
+            out.primitives.push(p);
+        }
+        Ok(out)
+    }
+
+    fn skin_weights(
+        &self,
+        prim: &gltf::Primitive,
+        vc: usize,
+        ctx: &dyn Fn(&str) -> String,
+    ) -> Result<Option<Weights>, GltfError> {
+        let mut lists: Vec<Vec<(u32, f32)>> = vec![Vec::new(); vc];
+        let mut any = false;
+        for set in 0.. {
+            let (j, w) = (prim.get(&Semantic::Joints(set)), prim.get(&Semantic::Weights(set)));
+            let (j, w) = match (j, w) {
+                (None, None) => break,
+                (Some(j), Some(w)) => (j, w),
+                _ => {
+                    return Err(GltfError::Invalid(format!(
+                        "{} must come with a matching WEIGHTS_{set}/JOINTS_{set}",
+                        ctx(&format!("JOINTS_{set} or WEIGHTS_{set}"))
+                    )))
+                }
+            };
+            any = true;
+            let jn = format!("JOINTS_{set}");
+            let wn = format!("WEIGHTS_{set}");
+            let jv = self.read(&j, &[Dimensions::Vec4], Kind::Uint, &ctx(&jn))?;
+            let wv = self.read(&w, &[Dimensions::Vec4], Kind::FloatOrUnorm, &ctx(&wn))?;
+            if jv.len() != vc * 4 || wv.len() != vc * 4 {
+                return Err(GltfError::Invalid(format!(
+                    "{} or {} count differs from the {vc} vertices",
+                    ctx(&jn),
+                    ctx(&wn)
+                )));
+            }
+            for (v, list) in lists.iter_mut().enumerate() {
+                for k in 0..4 {
+                    let weight = wv[v * 4 + k] as f32;
+                    if weight != 0.0 {
+                        list.push((jv[v * 4 + k] as u32, weight));
+                    }
+                }
+            }
+        }
+        Ok(any.then(|| Weights::from_lists(lists)))
+    }
+
+    fn animation(&self, anim: &gltf::Animation, scene: &Scene) -> Result<Animation, GltfError> {
+        let mut out = Animation {
+            name: anim.name().map(str::to_owned),
+            channels: Vec::new(),
+        };
+        for ch in anim.channels() {
+            let ctx = |w: &str| format!("{w} of animation {} channel {}", anim.index(), ch.index());
+            let sampler = ch.sampler();
+            let node = ch.target().node().index();
+            let path = match ch.target().property() {
+                Property::Translation => AnimPath::Translation,
+                Property::Rotation => AnimPath::Rotation,
+                Property::Scale => AnimPath::Scale,
+                Property::MorphTargetWeights => AnimPath::Weights,
+            };
+            let interpolation = match sampler.interpolation() {
+                GInterp::Linear => Interpolation::Linear,
+                GInterp::Step => Interpolation::Step,
+                GInterp::CubicSpline => Interpolation::CubicSpline,
+            };
+            let times: Vec<f32> = self
+                .read(&sampler.input(), &[Dimensions::Scalar], Kind::Float, &ctx("input"))?
+                .into_iter()
+                .map(|t| t as f32)
+                .collect();
+            if times.is_empty() {
+                return Err(GltfError::Invalid(format!("{} has no keys", ctx("input"))));
+            }
+            if let Some(k) = times.windows(2).position(|w| w[0] >= w[1]) {
+                return Err(GltfError::Invalid(format!(
+                    "{}: key {} time {} is not after {} (times must strictly increase)",
+                    ctx("input"),
+                    k + 1,
+                    times[k + 1],
+                    times[k]
+                )));
+            }
+            let (dims, kind) = match path {
+                AnimPath::Translation | AnimPath::Scale => (Dimensions::Vec3, Kind::Float),
+                AnimPath::Rotation => (Dimensions::Vec4, Kind::FloatOrNorm),
+                AnimPath::Weights => (Dimensions::Scalar, Kind::FloatOrNorm),
+            };
+            let values: Vec<f32> = self
+                .read(&sampler.output(), &[dims], kind, &ctx("output"))?
+                .into_iter()
+                .map(|v| v as f32)
+                .collect();
+            let per_key = if interpolation == Interpolation::CubicSpline { 3 } else { 1 };
+            if interpolation == Interpolation::CubicSpline && times.len() < 2 {
+                return Err(GltfError::Invalid(format!("{}: CUBICSPLINE needs at least 2 keys", ctx("sampler"))));
+            }
+            let width = match path {
+                AnimPath::Translation | AnimPath::Scale => 3,
+                AnimPath::Rotation => 4,
+                AnimPath::Weights => {
+                    let targets = scene.nodes[node]
+                        .mesh
+                        .and_then(|m| scene.meshes.get(m))
+                        .and_then(|m| m.primitives.first())
+                        .map_or(0, |p| p.targets.len());
+                    if targets == 0 {
+                        return Err(GltfError::Invalid(format!(
+                            "{}: animates weights of node {node}, which has no morph targets",
+                            ctx("target")
+                        )));
+                    }
+                    targets
+                }
+            };
+            let want = times.len() * per_key * width;
+            if values.len() != want {
+                return Err(GltfError::Invalid(format!(
+                    "{}: {} keys need {want} output components, found {}",
+                    ctx("output"),
+                    times.len(),
+                    values.len()
+                )));
+            }
+            out.channels.push(AnimationChannel { node, path, interpolation, times, width, values });
+        }
+        Ok(out)
+    }
+}
+
+/// One component as `f64`, applying the spec's normalized-integer decoding.
+fn component(b: &[u8], dt: DataType, normalized: bool) -> f64 {
+    let le = |n: usize| b.iter().take(n).rev().fold(0u32, |a, &x| (a << 8) | x as u32);
+    match (dt, normalized) {
+        (DataType::F32, _) => f32::from_bits(le(4)) as f64,
+        (DataType::U8, true) => le(1) as f64 / 255.0,
+        (DataType::U16, true) => le(2) as f64 / 65535.0,
+        (DataType::I8, true) => (le(1) as u8 as i8 as f64 / 127.0).max(-1.0),
+        (DataType::I16, true) => (le(2) as u16 as i16 as f64 / 32767.0).max(-1.0),
+        (DataType::I8, false) => le(1) as u8 as i8 as f64,
+        (DataType::I16, false) => le(2) as u16 as i16 as f64,
+        (DataType::U8 | DataType::U16 | DataType::U32, _) => le(dt.size()) as f64,
+    }
+}
+
+/// Turns an index list of the given topology into triangles.
+fn triangulate(mode: Mode, idx: &[u32]) -> Result<Vec<[u32; 3]>, String> {
+    Ok(match mode {
+        Mode::TriangleStrip => (2..idx.len())
+            .map(|i| {
+                if i % 2 == 0 {
+                    [idx[i - 2], idx[i - 1], idx[i]]
+                } else {
+                    [idx[i - 1], idx[i - 2], idx[i]]
+                }
+            })
+            .collect(),
+        Mode::TriangleFan => (2..idx.len()).map(|i| [idx[0], idx[i - 1], idx[i]]).collect(),
+        _ => {
+            if idx.len() % 3 != 0 {
+                return Err(format!("{} indices is not a multiple of 3", idx.len()));
+            }
+            idx.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()
+        }
+    })
+}
+
+/// Morph target names from the de-facto `extras.targetNames` convention.
+fn target_names(extras: &gltf::json::Extras) -> Vec<String> {
+    extras
+        .as_ref()
+        .and_then(|raw| serde_json::from_str::<serde_json::Value>(raw.get()).ok())
+        .and_then(|v| {
+            v.get("targetNames")?
+                .as_array()?
+                .iter()
+                .map(|s| s.as_str().map(str::to_owned))
+                .collect()
+        })
+        .unwrap_or_default()
+}

@@ -1,0 +1,16 @@
+//! Interchange file formats as pure readers and writers over plain Rust structs:
+//! BVH motion capture in, glTF 2.0 in and out. Nothing here touches the graph; the
+//! importer and baker map these structs to and from graph nodes.
+
+pub mod bvh;
+pub mod gltf_read;
+pub mod gltf_write;
+pub mod scene;
+
+pub use bvh::{parse_bvh, Bvh, BvhError};
+pub use gltf_read::{read_gltf, read_gltf_slice};
+pub use gltf_write::{write_glb, write_gltf_embedded};
+pub use scene::{GltfError, Scene};
+
+#[cfg(test)]
+mod tests;
