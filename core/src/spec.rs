@@ -101,12 +101,16 @@ pub struct ComputeGroup {
 
 /// The DAG (parenting) hookup of a node type: the child's `parent_matrix`
 /// input is fed from the parent's `world_matrix` output.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct DagSpec {
     /// The input that receives the parent's world matrix.
     pub parent_matrix: AttrId,
     /// The output that feeds children's `parent_matrix`.
     pub world_matrix: AttrId,
+    /// Extra links made when parenting: `(attribute name on the parent, input
+    /// on this child)`, connected when the parent has that attribute with the
+    /// same type (a joint's `scale` feeds its child joint's `inverseScale`).
+    pub links: Vec<(String, AttrId)>,
 }
 
 /// The specification of a node type.
@@ -318,7 +322,18 @@ impl SpecBuilder {
         self.dag = Some(DagSpec {
             parent_matrix: parent_matrix.id(),
             world_matrix: world_matrix.id(),
+            links: Vec::new(),
         });
+        self
+    }
+
+    /// Adds a parenting link (after [`SpecBuilder::dag`]): when this node is
+    /// parented under a node that has an attribute `parent_attr` of the same
+    /// type, that attribute is connected into `child_input`.
+    pub fn dag_link<T>(&mut self, parent_attr: &str, child_input: Input<T>) -> &mut Self {
+        if let Some(d) = &mut self.dag {
+            d.links.push((parent_attr.to_string(), child_input.id()));
+        }
         self
     }
 
@@ -412,7 +427,7 @@ impl SpecBuilder {
                 affected_groups[i.index()].push(g as u16);
             }
         }
-        if let Some(d) = self.dag {
+        if let Some(d) = &self.dag {
             let ok = self.attrs.get(d.parent_matrix.index()).map(|a| (a.ty, a.direction))
                 == Some((AttrType::Matrix, Direction::Input))
                 && self.attrs.get(d.world_matrix.index()).map(|a| (a.ty, a.direction))

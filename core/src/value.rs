@@ -45,11 +45,14 @@ pub enum AttrType {
     Vec3Array,
     /// An array of matrices (shared, copy-on-write).
     MatrixArray,
+    /// Plugin-defined immutable data (a precomputed curve, a spatial index...).
+    /// Outputs only: it cannot be written in rig files.
+    Object,
 }
 
 impl AttrType {
     /// All types, in declaration order.
-    pub const ALL: [AttrType; 15] = [
+    pub const ALL: [AttrType; 16] = [
         AttrType::Bool,
         AttrType::Int,
         AttrType::Float,
@@ -65,6 +68,7 @@ impl AttrType {
         AttrType::IntArray,
         AttrType::Vec3Array,
         AttrType::MatrixArray,
+        AttrType::Object,
     ];
 
     /// The lower-case name used in messages, `sinew nodes` and rig files.
@@ -85,6 +89,7 @@ impl AttrType {
             AttrType::IntArray => "intArray",
             AttrType::Vec3Array => "vec3Array",
             AttrType::MatrixArray => "matrixArray",
+            AttrType::Object => "object",
         }
     }
 
@@ -100,6 +105,7 @@ impl AttrType {
                 | AttrType::IntArray
                 | AttrType::Vec3Array
                 | AttrType::MatrixArray
+                | AttrType::Object
         )
     }
 
@@ -132,6 +138,7 @@ impl AttrType {
             AttrType::IntArray => Value::IntArray(Arc::default()),
             AttrType::Vec3Array => Value::Vec3Array(Arc::default()),
             AttrType::MatrixArray => Value::MatrixArray(Arc::default()),
+            AttrType::Object => Value::Object(ObjectRef::default()),
         }
     }
 }
@@ -175,6 +182,8 @@ pub enum Value {
     Vec3Array(Arc<Vec<DVec3>>),
     /// See [`AttrType::MatrixArray`].
     MatrixArray(Arc<Vec<DMat4>>),
+    /// See [`AttrType::Object`].
+    Object(ObjectRef),
 }
 
 impl Value {
@@ -196,6 +205,7 @@ impl Value {
             Value::IntArray(_) => AttrType::IntArray,
             Value::Vec3Array(_) => AttrType::Vec3Array,
             Value::MatrixArray(_) => AttrType::MatrixArray,
+            Value::Object(_) => AttrType::Object,
         }
     }
 
@@ -252,6 +262,7 @@ impl Value {
             (Value::IntArray(a), Value::IntArray(b)) => Arc::ptr_eq(a, b) || a == b,
             (Value::Vec3Array(a), Value::Vec3Array(b)) => Arc::ptr_eq(a, b) || v3(a, b),
             (Value::MatrixArray(a), Value::MatrixArray(b)) => Arc::ptr_eq(a, b) || m4(a, b),
+            (Value::Object(a), Value::Object(b)) => a.ptr_eq(b),
             _ => false,
         }
     }
@@ -319,7 +330,59 @@ impl fmt::Display for Value {
             Value::IntArray(a) => write!(f, "{:?}", a.as_slice()),
             Value::Vec3Array(a) => write!(f, "<{} vec3>", a.len()),
             Value::MatrixArray(a) => write!(f, "<{} matrices>", a.len()),
+            Value::Object(_) => write!(f, "<object>"),
         }
+    }
+}
+
+/// Plugin-defined immutable data behind an `Arc`, compared by identity.
+///
+/// A node can precompute something expensive (an animation curve's segment
+/// coefficients, a spatial index) into an `Object` output in one compute
+/// group, and use it every frame from another group.
+#[derive(Clone)]
+pub struct ObjectRef(Option<Arc<dyn std::any::Any + Send + Sync>>);
+
+impl ObjectRef {
+    /// Wraps a value.
+    pub fn new<T: std::any::Any + Send + Sync>(value: T) -> Self {
+        ObjectRef(Some(Arc::new(value)))
+    }
+
+    /// The value as `T`, when it is one.
+    pub fn downcast<T: std::any::Any + Send + Sync>(&self) -> Option<&T> {
+        self.0.as_ref()?.downcast_ref::<T>()
+    }
+
+    /// Whether both refer to the same allocation (or are both empty).
+    pub fn ptr_eq(&self, other: &ObjectRef) -> bool {
+        match (&self.0, &other.0) {
+            (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+            (None, None) => true,
+            _ => false,
+        }
+    }
+
+    /// Whether no value is held (the default).
+    pub fn is_empty(&self) -> bool {
+        self.0.is_none()
+    }
+}
+
+impl Default for ObjectRef {
+    /// The empty object.
+    fn default() -> Self {
+        ObjectRef(None)
+    }
+}
+
+impl fmt::Debug for ObjectRef {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(if self.0.is_some() {
+            "Object(..)"
+        } else {
+            "Object(empty)"
+        })
     }
 }
 
@@ -365,6 +428,7 @@ attr_value!(Arc<Vec<f64>>, FloatArray, FloatArray);
 attr_value!(Arc<Vec<i64>>, IntArray, IntArray);
 attr_value!(Arc<Vec<DVec3>>, Vec3Array, Vec3Array);
 attr_value!(Arc<Vec<DMat4>>, MatrixArray, MatrixArray);
+attr_value!(ObjectRef, Object, Object);
 
 impl AttrValue for i64 {
     const TYPE: AttrType = AttrType::Int;

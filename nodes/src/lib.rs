@@ -1,1 +1,26 @@
+//! sinew-nodes: the standard node plugins of sinew, one module per family.
+//!
+//! Every node type here is written against the public plugin API of
+//! `sinew-core`, exactly as a third-party plugin would be. [`register_all`]
+//! adds them all to a registry; [`registry`] builds a shared one.
 
+use std::sync::Arc;
+
+use sinew_core::{Registry, SpecError};
+
+pub mod anim;
+pub mod ik;
+pub mod transform;
+
+/// Registers every standard node type.
+pub fn register_all(registry: &mut Registry) -> Result<(), SpecError> {
+    let _ = registry;
+    Ok(())
+}
+
+/// A registry holding every standard node type.
+pub fn registry() -> Result<Arc<Registry>, SpecError> {
+    let mut r = Registry::new();
+    register_all(&mut r)?;
+    Ok(Arc::new(r))
+}

@@ -246,7 +246,7 @@ impl Graph {
             for &g in spec.groups_affected_by(dst.attr) {
                 d.groups[g as usize].force = true;
             }
-            if d.parent.is_some() && spec.dag.is_some_and(|dag| dag.parent_matrix == dst.attr) {
+            if d.parent.is_some() && spec.dag.as_ref().is_some_and(|dag| dag.parent_matrix == dst.attr) {
                 d.parent = None;
             }
             self.push_dirty(dst.node, dst.attr);
@@ -299,26 +299,45 @@ impl Graph {
     }
 
     /// Parents `child` under `parent` (or unparents with `None`): connects the
-    /// parent's world matrix to the child's parent matrix, as declared by the
-    /// node types' DAG hookups. Fails without change on a DAG cycle.
+    /// parent's world matrix to the child's parent matrix, plus the extra
+    /// links both node types declare (see [`crate::DagSpec`]). Fails without
+    /// change on a DAG cycle or when those inputs are driven by something else.
     pub fn set_parent(&mut self, child: NodeId, parent: Option<NodeId>) -> Result<()> {
         let cd = self.data(child)?;
         let child_name = cd.name.clone();
-        let Some(cdag) = cd.spec().dag else {
+        let parent_label = parent.and_then(|p| self.node_name(p)).unwrap_or("-").to_string();
+        let Some(cdag) = cd.spec().dag.clone() else {
             return Err(Error::BadParent {
                 child: child_name,
-                parent: parent.and_then(|p| self.node_name(p)).unwrap_or("-").to_string(),
+                parent: parent_label,
                 reason: format!(
                     "type {} has no DAG hookup (only transform-like nodes can be parented)",
                     cd.type_name
                 ),
             });
         };
-        let dst = Plug::new(child, cdag.parent_matrix);
-        let current = self.source_of(dst);
+        // The links the current parent made, to be replaced.
+        let old_parent = self.parent_of(child);
+        let mut old_links = Vec::new();
+        for dst_attr in std::iter::once(cdag.parent_matrix).chain(cdag.links.iter().map(|l| l.1)) {
+            let dst = Plug::new(child, dst_attr);
+            if let Some(src) = self.source_of(dst) {
+                if Some(src.node) == old_parent {
+                    old_links.push((src, dst));
+                } else {
+                    // Driven by something other than the DAG: leave it unless it is the parent matrix.
+                    if dst_attr == cdag.parent_matrix && parent.is_some() {
+                        return Err(Error::AlreadyConnected {
+                            dst: self.plug_name(dst),
+                            existing: self.plug_name(src),
+                        });
+                    }
+                }
+            }
+        }
         let Some(parent) = parent else {
-            if let Some(src) = current {
-                self.unlink(src, dst);
+            for (s, d) in old_links {
+                self.unlink(s, d);
             }
             if let Some(n) = self.nodes.get_mut(child) {
                 n.parent = None;
@@ -326,13 +345,12 @@ impl Graph {
             return Ok(());
         };
         let pd = self.data(parent)?;
-        let parent_name = pd.name.clone();
         let bad = |reason: String| Error::BadParent {
             child: child_name.clone(),
-            parent: parent_name.clone(),
+            parent: parent_label.clone(),
             reason,
         };
-        let Some(pdag) = pd.spec().dag else {
+        let Some(pdag) = pd.spec().dag.clone() else {
             return Err(bad(format!("type {} has no DAG hookup", pd.type_name)));
         };
         let mut p = Some(parent);
@@ -342,26 +360,41 @@ impl Graph {
             }
             p = self.parent_of(x);
         }
-        let src = Plug::new(parent, pdag.world_matrix);
-        if let (Some(existing), None) = (current, self.parent_of(child)) {
-            return Err(Error::AlreadyConnected {
-                dst: self.plug_name(dst),
-                existing: self.plug_name(existing),
-            });
+        let mut new_links = vec![(
+            Plug::new(parent, pdag.world_matrix),
+            Plug::new(child, cdag.parent_matrix),
+        )];
+        for (parent_attr, dst_attr) in &cdag.links {
+            let Some((src_attr, None)) = pd.spec().find(parent_attr) else {
+                continue;
+            };
+            let dst = Plug::new(child, *dst_attr);
+            let src = Plug::new(parent, src_attr);
+            let (Ok(st), Ok(dt)) = (self.plug_type(src), self.plug_type(dst)) else {
+                continue;
+            };
+            let driven_elsewhere = self.source_of(dst).is_some_and(|s| Some(s.node) != old_parent);
+            if st.connects_to(dt) && !pd.spec().attr(src_attr).multi && !driven_elsewhere {
+                new_links.push((src, dst));
+            }
         }
-        if let Some(path) = self.dependency_path((child, cdag.parent_matrix), (parent, pdag.world_matrix)) {
-            let mut cycle: Vec<String> = vec![self.plug_name(src)];
-            cycle.extend(path.iter().map(|&(n, a)| self.attr_path(n, a)));
-            return Err(Error::Cycle {
-                src: self.plug_name(src),
-                dst: self.plug_name(dst),
-                cycle,
-            });
+        for &(src, dst) in &new_links {
+            if let Some(path) = self.dependency_path((child, dst.attr), (parent, src.attr)) {
+                let mut cycle: Vec<String> = vec![self.plug_name(src)];
+                cycle.extend(path.iter().map(|&(n, a)| self.attr_path(n, a)));
+                return Err(Error::Cycle {
+                    src: self.plug_name(src),
+                    dst: self.plug_name(dst),
+                    cycle,
+                });
+            }
         }
-        if let Some(existing) = current {
-            self.unlink(existing, dst);
+        for (s, d) in old_links {
+            self.unlink(s, d);
         }
-        self.link(src, dst);
+        for (s, d) in new_links {
+            self.link(s, d);
+        }
         if let Some(n) = self.nodes.get_mut(child) {
             n.parent = Some(parent);
         }

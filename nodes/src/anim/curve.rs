@@ -197,10 +197,7 @@ impl AnimCurve {
         } else if h < n.saturating_sub(2) && times[h + 1] <= t && t < times[h + 2] {
             h + 1
         } else {
-            times
-                .partition_point(|&k| k <= t)
-                .saturating_sub(1)
-                .min(n - 2)
+            times.partition_point(|&k| k <= t).saturating_sub(1).min(n - 2)
         };
         *hint = span;
         if t == times[span] {
@@ -218,11 +215,7 @@ impl AnimCurve {
         let last = self.times.len() - 1;
         let (first_t, last_t) = (self.times[0], self.times[last]);
         let (first_v, last_v) = (self.values[0], self.values[last]);
-        let mode = if pre {
-            self.pre_infinity
-        } else {
-            self.post_infinity
-        };
+        let mode = if pre { self.pre_infinity } else { self.post_infinity };
         match mode {
             Infinity::Constant => return if pre { first_v } else { last_v },
             Infinity::Linear => {
@@ -283,10 +276,7 @@ fn validate_key(index: usize, k: &Key) -> Result<(), CurveError> {
         return Err(CurveError::NonFiniteTime { index });
     }
     if !k.value.is_finite() {
-        return Err(CurveError::NonFiniteValue {
-            index,
-            time: k.time,
-        });
+        return Err(CurveError::NonFiniteValue { index, time: k.time });
     }
     let sides = [
         (TangentSide::In, k.in_tangent, k.in_angle, k.in_weight),
@@ -326,8 +316,7 @@ fn build_span(a: &Key, b: &Key, out_t: Tangent, in_t: Tangent, weighted: bool) -
         };
     }
     if weighted {
-        let fixed =
-            |kind: TangentType, angle: Option<f64>| angle.filter(|_| kind == TangentType::Fixed);
+        let fixed = |kind: TangentType, angle: Option<f64>| angle.filter(|_| kind == TangentType::Fixed);
         let (ox, oy) = out_t.handle(a.out_weight, fixed(a.out_tangent, a.out_angle));
         let (ix, iy) = in_t.handle(b.in_weight, fixed(b.in_tangent, b.in_angle));
         Span::bezier(
@@ -339,14 +328,7 @@ fn build_span(a: &Key, b: &Key, out_t: Tangent, in_t: Tangent, weighted: bool) -
             b.value,
         )
     } else {
-        Span::hermite(
-            a.time,
-            a.value,
-            out_t.slope(),
-            b.time,
-            b.value,
-            in_t.slope(),
-        )
+        Span::hermite(a.time, a.value, out_t.slope(), b.time, b.value, in_t.slope())
     }
 }
 
@@ -373,10 +355,7 @@ mod tests {
     #[test]
     fn linear_two_keys_midpoint() {
         // Straight line from (0, 2) to (4, 10): v(t) = 2 + 2t, so v(2) = 6, v(1) = 4.
-        let c = curve(vec![
-            Key::new(0.0, 2.0, T::Linear),
-            Key::new(4.0, 10.0, T::Linear),
-        ]);
+        let c = curve(vec![Key::new(0.0, 2.0, T::Linear), Key::new(4.0, 10.0, T::Linear)]);
         assert!(close(c.evaluate(2.0), 6.0, EPS));
         assert!(close(c.evaluate(1.0), 4.0, EPS));
         assert_eq!(c.out_slope(0), Some(2.0));
@@ -385,18 +364,12 @@ mod tests {
     #[test]
     fn step_holds_and_stepnext_jumps() {
         // Out tangent step on key 0: value 1 on [0, 10), then key 1's value 5 at t = 10.
-        let c = curve(vec![
-            Key::new(0.0, 1.0, T::Step),
-            Key::new(10.0, 5.0, T::Step),
-        ]);
+        let c = curve(vec![Key::new(0.0, 1.0, T::Step), Key::new(10.0, 5.0, T::Step)]);
         assert_eq!(c.evaluate(0.0), 1.0);
         assert_eq!(c.evaluate(9.999), 1.0);
         assert_eq!(c.evaluate(10.0), 5.0);
         // Step next: key 0's value only at t = 0 exactly, the next value right after.
-        let c = curve(vec![
-            Key::new(0.0, 1.0, T::StepNext),
-            Key::new(10.0, 5.0, T::StepNext),
-        ]);
+        let c = curve(vec![Key::new(0.0, 1.0, T::StepNext), Key::new(10.0, 5.0, T::StepNext)]);
         assert_eq!(c.evaluate(0.0), 1.0);
         assert_eq!(c.evaluate(0.5), 5.0);
     }
@@ -405,10 +378,7 @@ mod tests {
     fn flat_tangents_give_smoothstep() {
         // Hermite with zero end slopes over (0,0)-(10,10): v = 10 (3s² - 2s³), s = t/10.
         // s = 0.5: 10 (0.75 - 0.25) = 5.  s = 0.25: 10 (0.1875 - 0.03125) = 1.5625.
-        let c = curve(vec![
-            Key::new(0.0, 0.0, T::Flat),
-            Key::new(10.0, 10.0, T::Flat),
-        ]);
+        let c = curve(vec![Key::new(0.0, 0.0, T::Flat), Key::new(10.0, 10.0, T::Flat)]);
         assert!(close(c.evaluate(5.0), 5.0, EPS));
         assert!(close(c.evaluate(2.5), 1.5625, EPS));
     }
@@ -533,8 +503,7 @@ mod tests {
             Key::new(12.0, 4.0, T::Clamped),
             Key::new(20.0, 1.0, T::Flat),
         ];
-        let u =
-            AnimCurve::new(keys.clone(), Infinity::Constant, Infinity::Constant, false).unwrap();
+        let u = AnimCurve::new(keys.clone(), Infinity::Constant, Infinity::Constant, false).unwrap();
         let w = AnimCurve::new(keys, Infinity::Constant, Infinity::Constant, true).unwrap();
         // Explicit fixed tangents whose weight puts the handle at 1/3 of the span:
         // slope 0.5 over a span of 6 -> handle (2, 1), weight √5.
@@ -555,12 +524,7 @@ mod tests {
     #[test]
     fn infinity_modes() {
         // v = t on [0, 10] (linear tangents); R = 10, Δ = 10.
-        let keys = || {
-            vec![
-                Key::new(0.0, 0.0, T::Linear),
-                Key::new(10.0, 10.0, T::Linear),
-            ]
-        };
+        let keys = || vec![Key::new(0.0, 0.0, T::Linear), Key::new(10.0, 10.0, T::Linear)];
         let c = curve_inf(keys(), Infinity::Constant, Infinity::Constant);
         assert_eq!((c.evaluate(-5.0), c.evaluate(15.0)), (0.0, 10.0));
         // Linear: extend with the end slopes (1).
@@ -577,13 +541,7 @@ mod tests {
         // Oscillate: 12 -> mirrored v(8) = 8; 23 -> second cycle forward v(3) = 3;
         // -3 -> mirrored v(3) = 3; -13 -> forward copy v(7) = 7.
         let c = curve_inf(keys(), Infinity::Oscillate, Infinity::Oscillate);
-        for (t, v) in [
-            (12.0, 8.0),
-            (23.0, 3.0),
-            (-3.0, 3.0),
-            (-13.0, 7.0),
-            (20.0, 0.0),
-        ] {
+        for (t, v) in [(12.0, 8.0), (23.0, 3.0), (-3.0, 3.0), (-13.0, 7.0), (20.0, 0.0)] {
             assert!(close(c.evaluate(t), v, 1e-12), "t = {t}");
         }
         // Linear infinity with flat end tangents stays constant.
@@ -613,10 +571,7 @@ mod tests {
     #[test]
     fn non_finite_time_is_documented() {
         let c = curve_inf(
-            vec![
-                Key::new(0.0, 1.0, T::Linear),
-                Key::new(10.0, 3.0, T::Linear),
-            ],
+            vec![Key::new(0.0, 1.0, T::Linear), Key::new(10.0, 3.0, T::Linear)],
             Infinity::Linear,
             Infinity::Cycle,
         );
@@ -633,19 +588,13 @@ mod tests {
         let dup = vec![Key::new(1.0, 0.0, T::Auto), Key::new(1.0, 2.0, T::Auto)];
         assert_eq!(none(dup), Err(CurveError::DuplicateTime { time: 1.0 }));
         let nan = vec![Key::new(0.0, f64::NAN, T::Auto)];
-        assert!(matches!(
-            none(nan),
-            Err(CurveError::NonFiniteValue { index: 0, .. })
-        ));
+        assert!(matches!(none(nan), Err(CurveError::NonFiniteValue { index: 0, .. })));
         let fixed = vec![Key::new(0.0, 0.0, T::Fixed)];
         assert!(matches!(none(fixed), Err(CurveError::BadFixedAngle { .. })));
         let neg = vec![Key::fixed(0.0, 0.0, 0.0, 0.0).with_weights(-1.0, 1.0)];
         assert!(matches!(none(neg), Err(CurveError::BadWeight { .. })));
         // Unsorted input is sorted.
-        let c = curve(vec![
-            Key::new(5.0, 1.0, T::Linear),
-            Key::new(0.0, 0.0, T::Linear),
-        ]);
+        let c = curve(vec![Key::new(5.0, 1.0, T::Linear), Key::new(0.0, 0.0, T::Linear)]);
         assert_eq!(c.time_range(), (0.0, 5.0));
     }
 

@@ -74,9 +74,7 @@ impl TangentType {
         if name.eq_ignore_ascii_case("smooth") {
             return Some(TangentType::Spline);
         }
-        Self::ALL
-            .into_iter()
-            .find(|t| t.maya_name().eq_ignore_ascii_case(name))
+        Self::ALL.into_iter().find(|t| t.maya_name().eq_ignore_ascii_case(name))
     }
 }
 
@@ -134,9 +132,7 @@ impl Infinity {
 
     /// Parses Maya's name, ignoring ASCII case. Returns `None` for unknown names.
     pub fn from_maya_name(name: &str) -> Option<Self> {
-        Self::ALL
-            .into_iter()
-            .find(|i| i.maya_name().eq_ignore_ascii_case(name))
+        Self::ALL.into_iter().find(|i| i.maya_name().eq_ignore_ascii_case(name))
     }
 }
 
@@ -201,12 +197,7 @@ impl Key {
     }
 
     /// A key with separate in and out tangent types and no angles or weights.
-    pub fn with_tangents(
-        time: f64,
-        value: f64,
-        in_tangent: TangentType,
-        out_tangent: TangentType,
-    ) -> Self {
+    pub fn with_tangents(time: f64, value: f64, in_tangent: TangentType, out_tangent: TangentType) -> Self {
         Key {
             time,
             value,
@@ -290,10 +281,7 @@ impl fmt::Display for CurveError {
                 write!(f, "key #{index} has a time that is not a finite number")
             }
             CurveError::NonFiniteValue { index, time } => {
-                write!(
-                    f,
-                    "key #{index} at time {time} has a value that is not a finite number"
-                )
+                write!(f, "key #{index} at time {time} has a value that is not a finite number")
             }
             CurveError::DuplicateTime { time } => write!(
                 f,

@@ -57,14 +57,7 @@ impl Span {
     /// The inner control times are pulled into the region where time is a
     /// monotone function of the Bezier parameter (AnimX `Tbezier::evaluate`),
     /// scaling each handle's value offset with it so its slope is kept.
-    pub(super) fn bezier(
-        t0: f64,
-        v0: f64,
-        p1: (f64, f64),
-        p2: (f64, f64),
-        t3: f64,
-        v3: f64,
-    ) -> Self {
+    pub(super) fn bezier(t0: f64, v0: f64, p1: (f64, f64), p2: (f64, f64), t3: f64, v3: f64) -> Self {
         let dx = t3 - t0;
         let old1 = (p1.0 - t0) / dx;
         let old2 = (p2.0 - t0) / dx;
@@ -105,11 +98,7 @@ impl Span {
                 uniform_time,
             } => {
                 let s = unit(t, t0, dx);
-                let u = if uniform_time {
-                    s
-                } else {
-                    solve_monotone(&x, s)
-                };
+                let u = if uniform_time { s } else { solve_monotone(&x, s) };
                 y[0] + u * (y[1] + u * (y[2] + u * y[3]))
             }
         }
@@ -237,10 +226,7 @@ mod tests {
                 }
                 for i in 0..=20 {
                     let s = f64::from(i) / 20.0;
-                    assert!(
-                        (at(solve_monotone(&x, s)) - s).abs() < 1e-9,
-                        "x1={x1} x2={x2} s={s}"
-                    );
+                    assert!((at(solve_monotone(&x, s)) - s).abs() < 1e-9, "x1={x1} x2={x2} s={s}");
                 }
             }
         }

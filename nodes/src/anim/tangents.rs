@@ -73,12 +73,7 @@ impl Tangent {
 
 /// The tangent on `side` of `key`, whose neighbours are `prev` and `next`
 /// (keys sorted by strictly increasing time, values finite).
-pub(super) fn tangent(
-    prev: Option<&Key>,
-    key: &Key,
-    next: Option<&Key>,
-    side: TangentSide,
-) -> Tangent {
+pub(super) fn tangent(prev: Option<&Key>, key: &Key, next: Option<&Key>, side: TangentSide) -> Tangent {
     let declared = match side {
         TangentSide::In => key.in_tangent,
         TangentSide::Out => key.out_tangent,
@@ -154,12 +149,8 @@ fn resolve_clamped(
     let dp = prev.map(|p| (p.value - key.value).abs());
     let dn = next.map(|n| (n.value - key.value).abs());
     let near = match side {
-        TangentSide::In => {
-            dp.map(|p| p <= CLAMPED_TOLERANCE || dn.unwrap_or(p) <= CLAMPED_TOLERANCE)
-        }
-        TangentSide::Out => {
-            dn.map(|n| n <= CLAMPED_TOLERANCE || dp.unwrap_or(n) <= CLAMPED_TOLERANCE)
-        }
+        TangentSide::In => dp.map(|p| p <= CLAMPED_TOLERANCE || dn.unwrap_or(p) <= CLAMPED_TOLERANCE),
+        TangentSide::Out => dn.map(|n| n <= CLAMPED_TOLERANCE || dp.unwrap_or(n) <= CLAMPED_TOLERANCE),
     };
     if near.unwrap_or(false) {
         TangentType::Flat
@@ -191,14 +182,7 @@ fn spline(prev: Option<&Key>, key: &Key, next: Option<&Key>, side: TangentSide) 
 /// flat; elsewhere the spline slope, limited to three times the slope toward
 /// either neighbour so the Bezier handles never pass a neighbour's value.
 /// With `plateau`, a slope that needs limiting becomes flat instead.
-fn auto(
-    prev: Option<&Key>,
-    key: &Key,
-    next: Option<&Key>,
-    side: TangentSide,
-    facing: f64,
-    plateau: bool,
-) -> Tangent {
+fn auto(prev: Option<&Key>, key: &Key, next: Option<&Key>, side: TangentSide, facing: f64, plateau: bool) -> Tangent {
     let (Some(p), Some(n)) = (prev, next) else {
         return Tangent::new(facing, 0.0);
     };

@@ -103,10 +103,7 @@ enum Key {
 impl Target {
     fn usable_between(&self, i: usize) -> bool {
         let w = self.in_betweens[i].weight;
-        w.is_finite()
-            && w != 0.0
-            && w != 1.0
-            && !self.in_betweens[..i].iter().any(|o| o.weight == w)
+        w.is_finite() && w != 0.0 && w != 1.0 && !self.in_betweens[..i].iter().any(|o| o.weight == w)
     }
 
     fn keys(&self) -> impl Iterator<Item = (f32, Key)> + '_ {
@@ -318,11 +315,7 @@ mod tests {
 
     #[test]
     fn sparse_from_shapes() {
-        let d = SparseDelta::from_shapes(
-            &[Vec3::ZERO, Vec3::ONE],
-            &[Vec3::ZERO, Vec3::new(1.0, 3.0, 1.0)],
-            1e-6,
-        );
+        let d = SparseDelta::from_shapes(&[Vec3::ZERO, Vec3::ONE], &[Vec3::ZERO, Vec3::new(1.0, 3.0, 1.0)], 1e-6);
         assert_eq!(d.indices, vec![1]);
         assert_eq!(d.deltas, vec![Vec3::new(0.0, 2.0, 0.0)]);
     }

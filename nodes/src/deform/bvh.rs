@@ -104,9 +104,7 @@ impl Bvh {
 
     fn split(&mut self, node: usize, lo: usize, hi: usize, boxes: &[Aabb]) {
         let range = &mut self.prims[lo..hi];
-        let bounds = range
-            .iter()
-            .fold(Aabb::EMPTY, |b, &i| b.union(boxes[i as usize]));
+        let bounds = range.iter().fold(Aabb::EMPTY, |b, &i| b.union(boxes[i as usize]));
         let cb = range.iter().fold(Aabb::EMPTY, |b, &i| {
             let c = boxes[i as usize].centroid();
             b.union(Aabb { min: c, max: c })
@@ -127,10 +125,7 @@ impl Bvh {
         };
         let mid = (lo + hi) / 2;
         range.select_nth_unstable_by(mid - lo, |&a, &b| {
-            let (ca, cb) = (
-                boxes[a as usize].centroid()[axis],
-                boxes[b as usize].centroid()[axis],
-            );
+            let (ca, cb) = (boxes[a as usize].centroid()[axis], boxes[b as usize].centroid()[axis]);
             ca.total_cmp(&cb)
         });
         let left = self.nodes.len();
@@ -168,9 +163,7 @@ impl Bvh {
             let node = self.nodes[n];
             self.nodes[n].bounds = if node.count > 0 {
                 let r = node.start as usize..(node.start + node.count) as usize;
-                self.prims[r]
-                    .iter()
-                    .fold(Aabb::EMPTY, |b, &i| b.union(prim_box(i)))
+                self.prims[r].iter().fold(Aabb::EMPTY, |b, &i| b.union(prim_box(i)))
             } else {
                 let l = node.start as usize;
                 self.nodes[l].bounds.union(self.nodes[l + 1].bounds)

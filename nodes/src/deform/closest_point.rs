@@ -53,9 +53,7 @@ impl MeshIndex {
     /// Builds the index over `mesh`'s triangles (those with out-of-range indices are never
     /// hit).
     pub fn build(mesh: &Mesh) -> Self {
-        let boxes: Vec<Aabb> = (0..mesh.triangles.len() as u32)
-            .map(|t| tri_box(mesh, t))
-            .collect();
+        let boxes: Vec<Aabb> = (0..mesh.triangles.len() as u32).map(|t| tri_box(mesh, t)).collect();
         MeshIndex {
             bvh: Bvh::build(&boxes),
             vertex_count: mesh.positions.len(),
@@ -225,10 +223,7 @@ mod tests {
         ] {
             let hit = index.closest_point(&mesh, p).unwrap();
             assert!((hit.position.length() - 1.0).abs() < 0.006, "{hit:?}");
-            assert!(
-                hit.normal.dot(hit.position) > 0.99,
-                "normal not outward: {hit:?}"
-            );
+            assert!(hit.normal.dot(hit.position) > 0.99, "normal not outward: {hit:?}");
             assert!((hit.normal.length() - 1.0).abs() < 1e-5);
             assert!((hit.barycentric.element_sum() - 1.0).abs() < 1e-5);
             // The closest point on a sphere is along the ray from the centre.
@@ -244,9 +239,7 @@ mod tests {
             p.y += 10.0;
         }
         assert!(index.refit(&mesh));
-        let hit = index
-            .closest_point(&mesh, Vec3::new(0.25, 12.0, 0.1))
-            .unwrap();
+        let hit = index.closest_point(&mesh, Vec3::new(0.25, 12.0, 0.1)).unwrap();
         assert!((hit.position - Vec3::new(0.25, 10.0, 0.1)).length() < 1e-5);
         assert!((hit.distance - 2.0).abs() < 1e-5);
         mesh.triangles.pop();

@@ -48,7 +48,7 @@ impl DualQuat {
     #[inline]
     pub fn normalized(self) -> Option<Self> {
         let len = self.real.length();
-        if !(len > 1e-12) || !len.is_finite() {
+        if len.is_nan() || len <= 1e-12 || len.is_infinite() {
             return None;
         }
         let inv = 1.0 / len;
@@ -118,7 +118,7 @@ impl DqPalette {
         for m in palette {
             let j = split(m);
             let off = (j.stretch - Mat3A::IDENTITY).to_cols_array();
-            if off.iter().any(|x| !(x.abs() <= 1e-6)) {
+            if off.iter().any(|x| x.is_nan() || x.abs() > 1e-6) {
                 self.has_stretch = true;
             }
             self.joints.push(j);
@@ -207,10 +207,7 @@ mod tests {
             w_axis: Vec4::new(1.0, 2.0, 3.0, 1.0),
             ..m
         });
-        assert!(
-            Quat::from_vec4(j.dq.real).abs_diff_eq(r, 1e-5)
-                || Quat::from_vec4(-j.dq.real).abs_diff_eq(r, 1e-5)
-        );
+        assert!(Quat::from_vec4(j.dq.real).abs_diff_eq(r, 1e-5) || Quat::from_vec4(-j.dq.real).abs_diff_eq(r, 1e-5));
         assert!(j.stretch.abs_diff_eq(s, 1e-5));
         let mut pal = DqPalette::new();
         pal.update(&[Mat4::IDENTITY, m]);

@@ -88,10 +88,7 @@ mod tests {
             min_angle: 0.5,
             max_angle: 0.5,
         };
-        assert_eq!(
-            (cone_weight(0.5, hard), cone_weight(0.51, hard)),
-            (1.0, 0.0)
-        );
+        assert_eq!((cone_weight(0.5, hard), cone_weight(0.51, hard)), (1.0, 0.0));
         assert_eq!(cone_weight(f64::NAN, CONE), 0.0);
     }
 
@@ -102,8 +99,7 @@ mod tests {
         assert_eq!(angle_between(DVec3::ZERO, DVec3::X), None);
         // Joint rotated 45° about Z: its +X axis is 45° from the world +X reference; the
         // translation must not matter.
-        let joint =
-            DMat4::from_rotation_z(FRAC_PI_4) * DMat4::from_translation(DVec3::new(5.0, 1.0, 2.0));
+        let joint = DMat4::from_rotation_z(FRAC_PI_4) * DMat4::from_translation(DVec3::new(5.0, 1.0, 2.0));
         let cone = Cone {
             min_angle: 0.0,
             max_angle: FRAC_PI_2,

@@ -51,20 +51,14 @@ fn positive(name: &'static str, value: f32) -> Result<f32, PrimitiveError> {
 ///
 /// `u` runs along `+X` and `v` along `-Z` (Maya's polyPlane layout). Subdivisions below 1
 /// are raised to 1.
-pub fn plane(
-    width: f32,
-    depth: f32,
-    subdivisions_x: u32,
-    subdivisions_z: u32,
-) -> Result<Mesh, PrimitiveError> {
+pub fn plane(width: f32, depth: f32, subdivisions_x: u32, subdivisions_z: u32) -> Result<Mesh, PrimitiveError> {
     let (w, d) = (positive("width", width)?, positive("depth", depth)?);
     let (sx, sz) = (subdivisions_x.max(1), subdivisions_z.max(1));
     let mut m = Mesh::default();
     for k in 0..=sz {
         for i in 0..=sx {
             let (s, t) = (i as f32 / sx as f32, k as f32 / sz as f32);
-            m.positions
-                .push(Vec3::new(-0.5 * w + w * s, 0.0, 0.5 * d - d * t));
+            m.positions.push(Vec3::new(-0.5 * w + w * s, 0.0, 0.5 * d - d * t));
             m.normals.push(Vec3::Y);
             m.uvs.push(Vec2::new(s, t));
         }
@@ -218,13 +212,7 @@ pub fn uv_sphere(radius: f32, rings: u32, segments: u32) -> Result<Mesh, Primiti
 ///
 /// UV layout: the side fills `v ∈ [0, 0.5]`; the bottom cap is a disk around (0.25, 0.75),
 /// the top cap a disk around (0.75, 0.75). Without caps the side still uses `v ∈ [0, 0.5]`.
-pub fn cylinder(
-    radius: f32,
-    height: f32,
-    rings: u32,
-    segments: u32,
-    caps: bool,
-) -> Result<Mesh, PrimitiveError> {
+pub fn cylinder(radius: f32, height: f32, rings: u32, segments: u32, caps: bool) -> Result<Mesh, PrimitiveError> {
     let (r, h) = (positive("radius", radius)?, positive("height", height)?);
     let (rings, segments) = (rings.max(1), segments.max(3));
     let rows: Vec<Row> = (0..=rings)
@@ -252,19 +240,10 @@ pub fn cylinder(
 /// at least `2 * radius` (equal gives a sphere).
 ///
 /// `v` runs from 0 at the bottom tip to 1 at the top tip, proportional to arc length.
-pub fn capsule(
-    radius: f32,
-    height: f32,
-    rings: u32,
-    segments: u32,
-    cap_rings: u32,
-) -> Result<Mesh, PrimitiveError> {
+pub fn capsule(radius: f32, height: f32, rings: u32, segments: u32, cap_rings: u32) -> Result<Mesh, PrimitiveError> {
     let (r, h) = (positive("radius", radius)?, positive("height", height)?);
     if h < 2.0 * r {
-        return Err(PrimitiveError::CapsuleTooShort {
-            height: h,
-            radius: r,
-        });
+        return Err(PrimitiveError::CapsuleTooShort { height: h, radius: r });
     }
     let (rings, segments, cap_rings) = (rings.max(1), segments.max(3), cap_rings.max(1));
     let half = 0.5 * h - r;
@@ -314,10 +293,7 @@ pub fn capsule(
     let total = arc_mid + arc_cap;
     let rows: Vec<Row> = rows
         .into_iter()
-        .map(|(row, arc)| Row {
-            v: arc / total,
-            ..row
-        })
+        .map(|(row, arc)| Row { v: arc / total, ..row })
         .collect();
     let mut m = Mesh::default();
     revolve(&mut m, &rows, segments, |uv| uv);
@@ -336,22 +312,13 @@ mod tests {
         assert_eq!(m.uvs.len(), m.positions.len());
         for tri in &m.triangles {
             let [a, b, c] = tri.map(|i| i as usize);
-            let (e1, e2) = (
-                m.positions[b] - m.positions[a],
-                m.positions[c] - m.positions[a],
-            );
+            let (e1, e2) = (m.positions[b] - m.positions[a], m.positions[c] - m.positions[a]);
             let face = e1.cross(e2);
             assert!(face.length() > 1e-9, "degenerate triangle {tri:?}");
             let avg = m.normals[a] + m.normals[b] + m.normals[c];
-            assert!(
-                face.dot(avg) > 0.0,
-                "triangle {tri:?} winds against its normals"
-            );
+            assert!(face.dot(avg) > 0.0, "triangle {tri:?} winds against its normals");
             let (d1, d2) = (m.uvs[b] - m.uvs[a], m.uvs[c] - m.uvs[a]);
-            assert!(
-                d1.perp_dot(d2) > 0.0,
-                "triangle {tri:?} has a flipped UV frame"
-            );
+            assert!(d1.perp_dot(d2) > 0.0, "triangle {tri:?} has a flipped UV frame");
         }
         for n in &m.normals {
             assert!((n.length() - 1.0).abs() < 1e-5);

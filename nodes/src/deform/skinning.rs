@@ -156,11 +156,7 @@ fn check_len(name: &'static str, len: usize, expected: usize) -> Result<(), Skin
     if len == expected {
         Ok(())
     } else {
-        Err(SkinError::BufferLength {
-            name,
-            len,
-            expected,
-        })
+        Err(SkinError::BufferLength { name, len, expected })
     }
 }
 
@@ -226,18 +222,10 @@ impl<'a> Kernel<'a> {
         match (self.method, with_normals) {
             (SkinMethod::Linear, false) => self.lbs_loop::<false>(start, out_p, out_n),
             (SkinMethod::Linear, true) => self.lbs_loop::<true>(start, out_p, out_n),
-            (SkinMethod::DualQuaternion, false) => {
-                self.mixed_loop::<false>(start, out_p, out_n, None)
-            }
-            (SkinMethod::DualQuaternion, true) => {
-                self.mixed_loop::<true>(start, out_p, out_n, None)
-            }
-            (SkinMethod::WeightBlended(b), false) => {
-                self.mixed_loop::<false>(start, out_p, out_n, Some(b))
-            }
-            (SkinMethod::WeightBlended(b), true) => {
-                self.mixed_loop::<true>(start, out_p, out_n, Some(b))
-            }
+            (SkinMethod::DualQuaternion, false) => self.mixed_loop::<false>(start, out_p, out_n, None),
+            (SkinMethod::DualQuaternion, true) => self.mixed_loop::<true>(start, out_p, out_n, None),
+            (SkinMethod::WeightBlended(b), false) => self.mixed_loop::<false>(start, out_p, out_n, Some(b)),
+            (SkinMethod::WeightBlended(b), true) => self.mixed_loop::<true>(start, out_p, out_n, Some(b)),
         }
     }
 
@@ -263,21 +251,13 @@ impl<'a> Kernel<'a> {
             *p_out = (m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3]).truncate();
             if N {
                 if let (Some(o), Some(&n)) = (out_n.get_mut(i), self.normals.get(v)) {
-                    *o = cofactor_transform(&m, n.into())
-                        .try_normalize()
-                        .map_or(n, Vec3::from);
+                    *o = cofactor_transform(&m, n.into()).try_normalize().map_or(n, Vec3::from);
                 }
             }
         }
     }
 
-    fn mixed_loop<const N: bool>(
-        &self,
-        start: usize,
-        out_p: &mut [Vec3],
-        out_n: &mut [Vec3],
-        blend: Option<&[f32]>,
-    ) {
+    fn mixed_loop<const N: bool>(&self, start: usize, out_p: &mut [Vec3], out_n: &mut [Vec3], blend: Option<&[f32]>) {
         for (i, p_out) in out_p.iter_mut().enumerate() {
             let v = start + i;
             let rest = self.positions.get(v).copied().unwrap_or(Vec3::ZERO);
@@ -323,13 +303,7 @@ impl<'a> Kernel<'a> {
 
     /// DQS for one vertex; `None` when the vertex has no usable influence.
     #[inline(always)]
-    fn dqs_vertex<const N: bool>(
-        &self,
-        js: &[u32],
-        ws: &[f32],
-        p: Vec3A,
-        n: Vec3A,
-    ) -> Option<(Vec3A, Vec3A)> {
+    fn dqs_vertex<const N: bool>(&self, js: &[u32], ws: &[f32], p: Vec3A, n: Vec3A) -> Option<(Vec3A, Vec3A)> {
         let (mut real, mut dual) = (Vec4::ZERO, Vec4::ZERO);
         let mut stretch = Mat3A::ZERO;
         let mut pivot: Option<Vec4> = None;
@@ -359,10 +333,7 @@ impl<'a> Kernel<'a> {
             let sn = if N { cofactor3(&stretch) * n } else { n };
             Some((dq.transform_point(sp), dq.rotate(sn).normalize_or(n)))
         } else {
-            Some((
-                dq.transform_point(p),
-                if N { dq.rotate(n).normalize_or(n) } else { n },
-            ))
+            Some((dq.transform_point(p), if N { dq.rotate(n).normalize_or(n) } else { n }))
         }
     }
 }
@@ -391,11 +362,7 @@ fn blend_matrix(js: &[u32], ws: &[f32], palette: &[Mat4]) -> Option<[Vec4; 4]> {
 /// Cofactor (adjugate transpose) of the upper 3×3 of `m` applied to `n`.
 #[inline(always)]
 fn cofactor_transform(m: &[Vec4; 4], n: Vec3A) -> Vec3A {
-    let (a, b, c) = (
-        Vec3A::from_vec4(m[0]),
-        Vec3A::from_vec4(m[1]),
-        Vec3A::from_vec4(m[2]),
-    );
+    let (a, b, c) = (Vec3A::from_vec4(m[0]), Vec3A::from_vec4(m[1]), Vec3A::from_vec4(m[2]));
     b.cross(c) * n.x + c.cross(a) * n.y + a.cross(b) * n.z
 }
 

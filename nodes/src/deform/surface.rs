@@ -126,13 +126,10 @@ impl UvIndex {
             return None;
         }
         let mut found = None;
-        self.bvh
-            .find_containing(Vec3A::new(u, v, 0.0), UV_EPS, |t| {
-                found = uv_corners(mesh, t)
-                    .and_then(|c| uv_barycentric(c, q))
-                    .map(|b| (t, b));
-                found.is_some()
-            });
+        self.bvh.find_containing(Vec3A::new(u, v, 0.0), UV_EPS, |t| {
+            found = uv_corners(mesh, t).and_then(|c| uv_barycentric(c, q)).map(|b| (t, b));
+            found.is_some()
+        });
         found
     }
 
@@ -153,9 +150,7 @@ mod tests {
     fn plane_round_trip_with_closest_point() {
         let mesh = plane(2.0, 2.0, 3, 3).unwrap();
         let index = MeshIndex::build(&mesh);
-        let hit = index
-            .closest_point(&mesh, Vec3::new(0.3, 1.0, -0.2))
-            .unwrap();
+        let hit = index.closest_point(&mesh, Vec3::new(0.3, 1.0, -0.2)).unwrap();
         // u = (x + 1) / 2 = 0.65, v = (1 − z) / 2 = 0.6 (v runs along −Z).
         let uv = hit.uv.unwrap();
         assert!((uv - Vec2::new(0.65, 0.6)).length() < 1e-6, "{uv}");
@@ -164,9 +159,7 @@ mod tests {
         assert!((s.position - hit.position).length() < 1e-6);
         assert!((s.normal - Vec3::Y).length() < 1e-6);
         assert!((s.tangent_u - Vec3::X).length() < 1e-6);
-        let fast = UvIndex::build(&mesh)
-            .point_at_uv(&mesh, uv.x, uv.y)
-            .unwrap();
+        let fast = UvIndex::build(&mesh).point_at_uv(&mesh, uv.x, uv.y).unwrap();
         assert!((fast.position - s.position).length() < 1e-6);
         assert!(point_at_uv(&mesh, 1.5, 0.5).is_none());
     }

@@ -2,20 +2,13 @@
 
 use super::dual_quat::DqPalette;
 use super::primitives::cylinder;
-use super::skinning::{
-    linear_blend, skin, skin_parallel, SkinError, SkinInput, SkinMethod, SkinOutput,
-};
+use super::skinning::{linear_blend, skin, skin_parallel, SkinError, SkinInput, SkinMethod, SkinOutput};
 use crate::data::{Mesh, Weights};
 use glam::{Mat4, Quat, Vec3};
 use std::f32::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 
 /// Runs one method serially; returns (positions, normals).
-fn run(
-    mesh: &Mesh,
-    w: &Weights,
-    palette: &[Mat4],
-    method: SkinMethod<'_>,
-) -> (Vec<Vec3>, Vec<Vec3>) {
+fn run(mesh: &Mesh, w: &Weights, palette: &[Mat4], method: SkinMethod<'_>) -> (Vec<Vec3>, Vec<Vec3>) {
     let mut p = vec![Vec3::NAN; mesh.positions.len()];
     let mut n = vec![Vec3::NAN; mesh.normals.len()];
     let input = SkinInput {
@@ -69,16 +62,10 @@ fn opposite_translations_cancel() {
     // 0.5·(I, +x) + 0.5·(I, −x) = (I, 0) exactly.
     let mesh = point(Vec3::new(0.25, 3.0, -1.5), Vec3::Y);
     let w = Weights::from_lists([vec![(0, 0.5), (1, 0.5)]]);
-    let palette = [
-        Mat4::from_translation(Vec3::X),
-        Mat4::from_translation(Vec3::NEG_X),
-    ];
+    let palette = [Mat4::from_translation(Vec3::X), Mat4::from_translation(Vec3::NEG_X)];
     for method in [SkinMethod::Linear, SkinMethod::DualQuaternion] {
         let (p, n) = run(&mesh, &w, &palette, method);
-        assert!(
-            (p[0] - mesh.positions[0]).length() < 1e-6,
-            "{method:?}: {p:?}"
-        );
+        assert!((p[0] - mesh.positions[0]).length() < 1e-6, "{method:?}: {p:?}");
         assert!((n[0] - Vec3::Y).length() < 1e-6);
     }
     let (p, _) = run(&mesh, &w, &palette, SkinMethod::Linear);
@@ -116,10 +103,7 @@ fn dqs_keeps_volume_where_lbs_collapses() {
     let rest = ring_area(&mesh.positions, &mesh.positions, 0.0, segments);
     for (twist, lbs_ratio) in [(FRAC_PI_2, 0.5), (PI, 0.0)] {
         let bind = Mat4::from_translation(Vec3::Y);
-        let palette = [
-            Mat4::IDENTITY,
-            bind * Mat4::from_rotation_y(twist) * bind.inverse(),
-        ];
+        let palette = [Mat4::IDENTITY, bind * Mat4::from_rotation_y(twist) * bind.inverse()];
         let (lbs, _) = run(&mesh, &w, &palette, SkinMethod::Linear);
         let (dqs, _) = run(&mesh, &w, &palette, SkinMethod::DualQuaternion);
         let a_lbs = ring_area(&lbs, &mesh.positions, 0.0, segments) / rest;
@@ -130,10 +114,7 @@ fn dqs_keeps_volume_where_lbs_collapses() {
             (a_lbs - lbs_ratio).abs() < 1e-4,
             "twist {twist}: LBS area ratio {a_lbs}"
         );
-        assert!(
-            (a_dqs - 1.0).abs() < 1e-4,
-            "twist {twist}: DQS area ratio {a_dqs}"
-        );
+        assert!((a_dqs - 1.0).abs() < 1e-4, "twist {twist}: DQS area ratio {a_dqs}");
         assert!(1.0 - a_dqs < 1.0 - a_lbs);
     }
     // DQS at 90°: the mid ring's +Z vertex turns by 45° about Y to (sin 45°, 0, cos 45°).
@@ -154,13 +135,9 @@ fn scale_and_normals() {
     // diag(½, 1, 1) to (½, 1, 0)/|·| = (1, 2, 0)/√5.
     let s = Mat4::from_scale(Vec3::new(2.0, 1.0, 1.0));
     let m = Mat4::from_translation(Vec3::new(0.0, 0.0, 3.0)) * Mat4::from_rotation_z(0.4) * s;
-    let mesh = point(
-        Vec3::new(1.0, 2.0, 3.0),
-        Vec3::new(1.0, 1.0, 0.0).normalize(),
-    );
+    let mesh = point(Vec3::new(1.0, 2.0, 3.0), Vec3::new(1.0, 1.0, 0.0).normalize());
     let w = Weights::from_lists([vec![(0, 1.0)]]);
-    let expect_n =
-        Mat4::from_rotation_z(0.4).transform_vector3(Vec3::new(1.0, 2.0, 0.0) / 5f32.sqrt());
+    let expect_n = Mat4::from_rotation_z(0.4).transform_vector3(Vec3::new(1.0, 2.0, 0.0) / 5f32.sqrt());
     for method in [SkinMethod::Linear, SkinMethod::DualQuaternion] {
         let (p, n) = run(&mesh, &w, &[m], method);
         assert!(
@@ -187,10 +164,7 @@ fn weight_blended_endpoints_and_midpoint() {
     let zeros = vec![0.0; mesh.positions.len()];
     let (b0, b0_n) = run(&mesh, &w, &palette, SkinMethod::WeightBlended(&zeros));
     assert_eq!(b0, lbs);
-    assert!(b0_n
-        .iter()
-        .zip(&lbs_n)
-        .all(|(a, b)| (*a - *b).length() < 1e-6));
+    assert!(b0_n.iter().zip(&lbs_n).all(|(a, b)| (*a - *b).length() < 1e-6));
     let ones = vec![1.0; mesh.positions.len()];
     assert_eq!(
         run(&mesh, &w, &palette, SkinMethod::WeightBlended(&ones)),
@@ -223,15 +197,8 @@ fn bad_influences_are_skipped_and_bad_buffers_are_errors() {
         SkinMethod::WeightBlended(&[0.5]),
     ] {
         let (p, n) = run(&mesh, &w, &palette, method);
-        assert!(
-            (p[0] - Vec3::new(2.0, 3.0, 4.0)).length() < 1e-6,
-            "{method:?}"
-        );
-        assert_eq!(
-            &p[1..],
-            &[Vec3::ONE, Vec3::ONE],
-            "unweighted vertices stay at rest"
-        );
+        assert!((p[0] - Vec3::new(2.0, 3.0, 4.0)).length() < 1e-6, "{method:?}");
+        assert_eq!(&p[1..], &[Vec3::ONE, Vec3::ONE], "unweighted vertices stay at rest");
         assert!(n.iter().all(|n| (*n - Vec3::Y).length() < 1e-6));
     }
     let input = SkinInput {
@@ -248,15 +215,9 @@ fn bad_influences_are_skipped_and_bad_buffers_are_errors() {
             normals: &mut [],
         },
     );
-    assert!(matches!(
-        err,
-        Err(SkinError::BufferLength { expected: 3, .. })
-    ));
+    assert!(matches!(err, Err(SkinError::BufferLength { expected: 3, .. })));
     let two = Weights::from_lists([vec![(0, 1.0)]]);
-    let input = SkinInput {
-        weights: &two,
-        ..input
-    };
+    let input = SkinInput { weights: &two, ..input };
     let mut out = vec![Vec3::ZERO; 3];
     let err = linear_blend(
         &input,
@@ -278,22 +239,17 @@ fn bad_influences_are_skipped_and_bad_buffers_are_errors() {
 pub(crate) fn random_rig(n: usize, joints: usize, seed: u64) -> (Mesh, Weights, Vec<Mat4>) {
     let mut s = seed;
     let mut rnd = move || {
-        s = s
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
+        s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
         ((s >> 40) as f32) / (1u64 << 24) as f32
     };
     let mut mesh = Mesh::default();
     let mut lists = Vec::with_capacity(n);
     for _ in 0..n {
-        mesh.positions
-            .push(Vec3::new(rnd(), rnd(), rnd()) * 4.0 - 2.0);
+        mesh.positions.push(Vec3::new(rnd(), rnd(), rnd()) * 4.0 - 2.0);
         mesh.normals
             .push((Vec3::new(rnd(), rnd(), rnd()) - 0.5).normalize_or(Vec3::Y));
         let k = 1 + (rnd() * 6.0) as usize;
-        let row: Vec<(u32, f32)> = (0..k)
-            .map(|_| ((rnd() * joints as f32) as u32, rnd()))
-            .collect();
+        let row: Vec<(u32, f32)> = (0..k).map(|_| ((rnd() * joints as f32) as u32, rnd())).collect();
         lists.push(row);
     }
     let palette = (0..joints)
@@ -303,19 +259,13 @@ pub(crate) fn random_rig(n: usize, joints: usize, seed: u64) -> (Mesh, Weights, 
             Mat4::from_scale_rotation_translation(sc, q, Vec3::new(rnd(), rnd(), rnd()))
         })
         .collect();
-    (
-        mesh,
-        super::weights::normalize(&Weights::from_lists(lists)),
-        palette,
-    )
+    (mesh, super::weights::normalize(&Weights::from_lists(lists)), palette)
 }
 
 #[test]
 fn parallel_is_bit_identical_to_serial() {
     let (mesh, w, palette) = random_rig(3 * super::skinning::CHUNK + 123, 20, 7);
-    let blend: Vec<f32> = (0..mesh.positions.len())
-        .map(|i| (i % 11) as f32 / 10.0)
-        .collect();
+    let blend: Vec<f32> = (0..mesh.positions.len()).map(|i| (i % 11) as f32 / 10.0).collect();
     let input = SkinInput {
         positions: &mesh.positions,
         normals: &mesh.normals,

@@ -36,9 +36,7 @@ pub enum WeightsError {
         joint_count: usize,
     },
     /// A negative weight.
-    #[error(
-        "vertex {vertex} has negative weight {weight} on joint {joint}; skin weights must be >= 0"
-    )]
+    #[error("vertex {vertex} has negative weight {weight} on joint {joint}; skin weights must be >= 0")]
     Negative {
         /// Vertex index.
         vertex: usize,
@@ -48,9 +46,7 @@ pub enum WeightsError {
         weight: f32,
     },
     /// Dense input whose length is not `vertex_count * joint_count`.
-    #[error(
-        "dense weights have {len} values, which is not a multiple of the joint count {joint_count}"
-    )]
+    #[error("dense weights have {len} values, which is not a multiple of the joint count {joint_count}")]
     DenseShape {
         /// Number of values given.
         len: usize,
@@ -71,11 +67,7 @@ pub fn normalize(w: &Weights) -> Weights {
     let mut out = Weights::default();
     for v in 0..w.vertex_count() {
         let (joints, weights) = w.influences(v);
-        let sum: f64 = weights
-            .iter()
-            .filter(|x| usable(**x))
-            .map(|&x| x as f64)
-            .sum();
+        let sum: f64 = weights.iter().filter(|x| usable(**x)).map(|&x| x as f64).sum();
         if sum > 0.0 && sum.is_finite() {
             for (&j, &x) in joints.iter().zip(weights).filter(|(_, x)| usable(**x)) {
                 out.joints.push(j);
@@ -121,11 +113,7 @@ pub fn prune(w: &Weights, max_influences: usize) -> Weights {
 /// Builds sparse weights from a dense row-major `vertex_count × joint_count` table, keeping
 /// entries strictly greater than `threshold` (use 0 to keep every positive weight).
 /// Rows are not normalized; call [`normalize`] if needed.
-pub fn from_dense(
-    dense: &[f32],
-    joint_count: usize,
-    threshold: f32,
-) -> Result<Weights, WeightsError> {
+pub fn from_dense(dense: &[f32], joint_count: usize, threshold: f32) -> Result<Weights, WeightsError> {
     if joint_count == 0 || dense.len() % joint_count != 0 {
         return Err(WeightsError::DenseShape {
             len: dense.len(),
@@ -149,11 +137,7 @@ pub fn from_dense(
 /// name only joints below `joint_count`, and hold finite, non-negative weights.
 ///
 /// Returns the first problem found. Rows need not sum to 1.
-pub fn validate_for(
-    w: &Weights,
-    vertex_count: usize,
-    joint_count: usize,
-) -> Result<(), WeightsError> {
+pub fn validate_for(w: &Weights, vertex_count: usize, joint_count: usize) -> Result<(), WeightsError> {
     w.validate().map_err(WeightsError::Structure)?;
     if w.vertex_count() != vertex_count {
         return Err(WeightsError::VertexCount {
@@ -257,10 +241,7 @@ mod tests {
                 ..
             })
         ));
-        assert!(matches!(
-            validate_for(&w, 3, 3),
-            Err(WeightsError::VertexCount { .. })
-        ));
+        assert!(matches!(validate_for(&w, 3, 3), Err(WeightsError::VertexCount { .. })));
         let (j4, w4) = to_fixed4(&w);
         assert_eq!(j4[0], [0, 2, 0, 0]);
         assert_eq!(w4[1], [1.0, 0.0, 0.0, 0.0]);

@@ -284,10 +284,7 @@ impl Prepared {
 
     /// Rest bone lengths: entry `i` is the length of the bone from joint `i` to `i + 1`.
     pub fn bone_lengths(&self) -> Vec<f64> {
-        self.joints[1..]
-            .iter()
-            .map(|j| j.translate.length())
-            .collect()
+        self.joints[1..].iter().map(|j| j.translate.length()).collect()
     }
 
     /// The same chain with every bone scaled by `s` (uniform stretch).

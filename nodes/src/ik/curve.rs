@@ -11,7 +11,7 @@
 //!   them (wrapped points included). Knots must be finite and non-decreasing.
 
 // The one line to change when moving into sinew-nodes: `pub use sinew_core::data::{Curve, CurveForm};`
-pub use super::super::data::{Curve, CurveForm};
+pub use sinew_core::data::{Curve, CurveForm};
 
 use glam::DVec3;
 
@@ -51,9 +51,7 @@ impl BSpline {
         let knots = if curve.knots.is_empty() {
             if periodic {
                 points.extend_from_within(0..p);
-                (0..points.len() + p + 1)
-                    .map(|j| j as f64 - p as f64)
-                    .collect()
+                (0..points.len() + p + 1).map(|j| j as f64 - p as f64).collect()
             } else {
                 let n = points.len();
                 (0..n + p + 1)
@@ -206,15 +204,8 @@ impl ArcLengthTable {
 
     /// The parameter at arc length `s` (clamped to `[0, total]`), interpolated between samples.
     pub fn param_at(&self, s: f64) -> f64 {
-        let s = if s.is_finite() {
-            s.clamp(0.0, self.total())
-        } else {
-            0.0
-        };
-        let i = self
-            .lengths
-            .partition_point(|&l| l < s)
-            .min(self.lengths.len() - 1);
+        let s = if s.is_finite() { s.clamp(0.0, self.total()) } else { 0.0 };
+        let i = self.lengths.partition_point(|&l| l < s).min(self.lengths.len() - 1);
         if i == 0 {
             return self.params[0];
         }

@@ -101,12 +101,7 @@ fn place(p: DVec3, anchor: DVec3, len: f64) -> DVec3 {
 ///
 /// Stretch/soft settings shape the aim point (see [`super::soft`]). Needs at least 2
 /// joints. Rotations are minimal-twist deltas from the preferred (rest) pose.
-pub fn solve_sc(
-    chain: &Chain,
-    goal: DVec3,
-    iter: &IterParams,
-    reach_params: &ReachParams,
-) -> IkSolution {
+pub fn solve_sc(chain: &Chain, goal: DVec3, iter: &IterParams, reach_params: &ReachParams) -> IkSolution {
     let prep = match Prepared::new(chain) {
         Ok(p) => p,
         Err(e) => return IkSolution::invalid(chain, e),
@@ -151,10 +146,8 @@ pub fn solve_sc(
     } else {
         match iter.method {
             IterMethod::Fabrik => {
-                let mut pos: Vec<DVec3> =
-                    rest_pos.iter().map(|p| p0 + (*p - p0) * r.scale).collect();
-                let (it, err) =
-                    fabrik_positions(&mut pos, &slengths, target, tol, iter.max_iterations);
+                let mut pos: Vec<DVec3> = rest_pos.iter().map(|p| p0 + (*p - p0) * r.scale).collect();
+                let (it, err) = fabrik_positions(&mut pos, &slengths, target, tol, iter.max_iterations);
                 let rot = sprep.rotations_from_positions(&pos, DQuat::IDENTITY, ortho(u), None);
                 (rot, it, err <= tol)
             }

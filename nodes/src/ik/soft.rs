@@ -91,11 +91,7 @@ pub fn soft_distance(x: f64, length: f64, soft: f64) -> f64 {
 /// total rest length `length`.
 pub fn reach(x: f64, length: f64, params: &ReachParams) -> Reach {
     let x = if x.is_finite() { x.max(0.0) } else { 0.0 };
-    let soft = if params.soft.is_finite() {
-        params.soft
-    } else {
-        0.0
-    };
+    let soft = if params.soft.is_finite() { params.soft } else { 0.0 };
     let eff = soft_distance(x, length, soft);
     let mut scale = 1.0;
     if params.stretch && eff > 0.0 {

@@ -94,9 +94,7 @@ pub fn solve_spline(chain: &Chain, curve: &Curve, params: &SplineParams) -> Spli
         Ok(p) => p,
         Err(e) => return fail(e),
     };
-    let finite = [params.offset, params.roll, params.twist]
-        .iter()
-        .all(|x| x.is_finite());
+    let finite = [params.offset, params.roll, params.twist].iter().all(|x| x.is_finite());
     if !finite || params.max_stretch.is_nan() {
         return fail(IkError::NonFinite("spline parameters"));
     }
@@ -139,11 +137,7 @@ pub fn solve_spline(chain: &Chain, curve: &Curve, params: &SplineParams) -> Spli
     let mut bone_scale = vec![1.0; n];
     let mut overrun = 0.0;
     if params.stretch && chain_len > EPS {
-        let remaining = if spline.is_periodic() {
-            total
-        } else {
-            total - start_s
-        };
+        let remaining = if spline.is_periodic() { total } else { total - start_s };
         let s = (remaining / chain_len).min(params.max_stretch.max(0.0));
         let mut acc = start_s;
         for (i, l) in lengths.iter().enumerate() {
@@ -155,11 +149,7 @@ pub fn solve_spline(chain: &Chain, curve: &Curve, params: &SplineParams) -> Spli
             };
             let t = table.param_at(arc);
             let q = spline.point(t) + shift;
-            bone_scale[i] = if *l > EPS {
-                q.distance(pos[i]) / l
-            } else {
-                1.0
-            };
+            bone_scale[i] = if *l > EPS { q.distance(pos[i]) / l } else { 1.0 };
             pos.push(q);
             cparams.push(Some(t));
         }
@@ -200,8 +190,7 @@ pub fn solve_spline(chain: &Chain, curve: &Curve, params: &SplineParams) -> Spli
     }
     let mut twist = vec![params.twist / (n - 1) as f64; n];
     twist[0] = params.roll;
-    let rotations =
-        sprep.rotations_from_positions(&pos, DQuat::IDENTITY, DVec3::ZERO, Some(&twist));
+    let rotations = sprep.rotations_from_positions(&pos, DQuat::IDENTITY, DVec3::ZERO, Some(&twist));
     let status = if overrun > 0.0 {
         IkStatus::Unreachable
     } else {
@@ -223,13 +212,7 @@ pub fn solve_spline(chain: &Chain, curve: &Curve, params: &SplineParams) -> Spli
 
 /// First parameter after `t` whose curve point is exactly `len` from `from` (bisection
 /// between table samples); `None` if the curve ends (or, periodic, loops once) first.
-fn next_on_curve(
-    spline: &BSpline,
-    table: &ArcLengthTable,
-    t: f64,
-    from: DVec3,
-    len: f64,
-) -> Option<f64> {
+fn next_on_curve(spline: &BSpline, table: &ArcLengthTable, t: f64, from: DVec3, len: f64) -> Option<f64> {
     if len <= EPS {
         return Some(t);
     }

@@ -25,8 +25,7 @@ pub(super) fn leg() -> Chain {
 pub(super) fn planar_chain() -> Chain {
     let mut joints = vec![ChainJoint::new(DVec3::new(0.5, 1.0, 0.0))];
     for (l, a) in [(2.0, 0.2), (1.5, -0.3), (1.0, 0.25), (0.8, 0.1)] {
-        joints
-            .push(ChainJoint::new(DVec3::new(l, 0.0, 0.0)).with_orient(DQuat::from_rotation_z(a)));
+        joints.push(ChainJoint::new(DVec3::new(l, 0.0, 0.0)).with_orient(DQuat::from_rotation_z(a)));
     }
     Chain {
         parent_world: DMat4::IDENTITY,
@@ -56,10 +55,7 @@ fn assert_straight_at(p: &[DVec3], goal: DVec3, tol: f64) {
     let u = (goal - p[0]).normalize();
     for q in &p[1..] {
         let v = *q - p[0];
-        assert!(
-            (v - u * v.dot(u)).length() < tol,
-            "joint off the start→goal line"
-        );
+        assert!((v - u * v.dot(u)).length() < tol, "joint off the start→goal line");
         assert!(v.dot(u) > 0.0);
     }
 }
@@ -119,10 +115,7 @@ fn two_bone_knee_bends_about_its_own_axis_only() {
         );
         let r = sol.rotations[1];
         // The rest plane is XY, so the knee's own bend axis is its local Z.
-        assert!(
-            r.x.abs() < 1e-12 && r.y.abs() < 1e-12,
-            "knee rotation {r:?}"
-        );
+        assert!(r.x.abs() < 1e-12 && r.y.abs() < 1e-12, "knee rotation {r:?}");
     }
 }
 
@@ -199,29 +192,16 @@ fn two_bone_collinear_pole_falls_back_to_rest_plane() {
 #[test]
 fn two_bone_goal_at_root_and_straight_rest() {
     let c = leg();
-    let sol = solve_two_bone(
-        &c,
-        DVec3::ZERO,
-        &RpParams::default(),
-        &ReachParams::default(),
-    );
+    let sol = solve_two_bone(&c, DVec3::ZERO, &RpParams::default(), &ReachParams::default());
     assert_finite(&sol);
     let p = chain_world_positions(&c, &sol.rotations);
-    assert!(
-        (p[2].length() - 1.0).abs() < 1e-12,
-        "folded as far as 3 and 4 allow"
-    );
+    assert!((p[2].length() - 1.0).abs() < 1e-12, "folded as far as 3 and 4 allow");
     assert_eq!(sol.status, IkStatus::Unreachable);
     // Equal bones fold exactly onto the root; a straight rest chain bends towards the pole.
     let mut c2 = leg();
     c2.joints[1].joint_orient = DQuat::IDENTITY;
     c2.joints[2].translate = DVec3::new(3.0, 0.0, 0.0);
-    let sol = solve_two_bone(
-        &c2,
-        DVec3::ZERO,
-        &RpParams::default(),
-        &ReachParams::default(),
-    );
+    let sol = solve_two_bone(&c2, DVec3::ZERO, &RpParams::default(), &ReachParams::default());
     assert_finite(&sol);
     assert!(chain_world_positions(&c2, &sol.rotations)[2].length() < 1e-12);
     let goal = DVec3::new(4.0, 0.0, 0.0);
@@ -362,10 +342,7 @@ fn ccd_reaches_reachable_goal() {
     assert_eq!(sol.status, IkStatus::Reached);
     let p = chain_world_positions(&c, &sol.rotations);
     assert!(p[4].distance(goal) < 1e-8);
-    for (a, b) in bone_lengths(&p)
-        .iter()
-        .zip(bone_lengths(&rest_positions(&c)))
-    {
+    for (a, b) in bone_lengths(&p).iter().zip(bone_lengths(&rest_positions(&c))) {
         assert!((a - b).abs() < 1e-9);
     }
 }
@@ -378,12 +355,7 @@ fn sc_reports_not_converged() {
         max_iterations: 1,
         ..IterParams::default()
     };
-    let sol = solve_sc(
-        &c,
-        DVec3::new(2.0, 3.0, 1.5),
-        &iter,
-        &ReachParams::default(),
-    );
+    let sol = solve_sc(&c, DVec3::new(2.0, 3.0, 1.5), &iter, &ReachParams::default());
     assert_eq!(sol.status, IkStatus::NotConverged);
     assert_eq!(sol.iterations, 1);
 }
@@ -430,12 +402,7 @@ fn zero_length_bones_and_goal_at_root() {
                 ..Default::default()
             },
         ),
-        solve_sc(
-            &all_zero,
-            goal,
-            &IterParams::default(),
-            &ReachParams::default(),
-        ),
+        solve_sc(&all_zero, goal, &IterParams::default(), &ReachParams::default()),
     ] {
         assert_finite(&sol);
         assert!((sol.error - goal.length()).abs() < 1e-12);
@@ -500,10 +467,7 @@ fn invalid_inputs_return_rest_pose_flagged() {
     let mut bad = c.clone();
     bad.joints[0].joint_orient = DQuat::from_xyzw(0.0, 0.0, 0.0, 0.0);
     let sol = solve_rotate_plane(&bad, DVec3::X, &rp, &reach, &IterParams::default());
-    assert_eq!(
-        sol.status,
-        IkStatus::Invalid(IkError::ZeroQuaternion { joint: 0 })
-    );
+    assert_eq!(sol.status, IkStatus::Invalid(IkError::ZeroQuaternion { joint: 0 }));
     let mut four = c.clone();
     four.joints.push(ChainJoint::new(DVec3::X));
     let sol = solve_two_bone(&four, DVec3::X, &rp, &reach);

@@ -107,13 +107,10 @@ fn blend_helpers() {
 }
 
 fn unit_quat() -> impl Strategy<Value = DQuat> {
-    (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64).prop_filter_map(
-        "non-zero",
-        |(x, y, z, w)| {
-            let q = DQuat::from_xyzw(x, y, z, w);
-            (q.length() > 0.1).then(|| q.normalize())
-        },
-    )
+    (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64).prop_filter_map("non-zero", |(x, y, z, w)| {
+        let q = DQuat::from_xyzw(x, y, z, w);
+        (q.length() > 0.1).then(|| q.normalize())
+    })
 }
 
 fn vec3(r: f64) -> impl Strategy<Value = DVec3> {
@@ -121,14 +118,9 @@ fn vec3(r: f64) -> impl Strategy<Value = DVec3> {
 }
 
 fn joint() -> impl Strategy<Value = ChainJoint> {
-    (
-        vec3(1.0),
-        0.3..3.0f64,
-        unit_quat(),
-        unit_quat(),
-        unit_quat(),
-    )
-        .prop_filter_map("bone direction", |(d, l, jo, ra, pref)| {
+    (vec3(1.0), 0.3..3.0f64, unit_quat(), unit_quat(), unit_quat()).prop_filter_map(
+        "bone direction",
+        |(d, l, jo, ra, pref)| {
             let d = d.try_normalize()?;
             Some(ChainJoint {
                 translate: d * l,
@@ -136,7 +128,8 @@ fn joint() -> impl Strategy<Value = ChainJoint> {
                 rotate_axis: ra,
                 preferred: pref,
             })
-        })
+        },
+    )
 }
 
 fn chain(joints: std::ops::Range<usize>) -> impl Strategy<Value = Chain> {
@@ -154,15 +147,12 @@ fn chain(joints: std::ops::Range<usize>) -> impl Strategy<Value = Chain> {
 
 /// A chain and a goal reachable by construction (FK of random rotations), away from full extension.
 fn chain_and_goal(joints: std::ops::Range<usize>) -> impl Strategy<Value = (Chain, DVec3)> {
-    (chain(joints), prop::collection::vec(unit_quat(), 8)).prop_filter_map(
-        "not fully extended",
-        |(c, rots)| {
-            let p = chain_world_positions(&c, &rots);
-            let total: f64 = bone_lengths(&p).iter().sum();
-            let d = p[0].distance(p[p.len() - 1]);
-            (d < 0.98 * total && d > 1e-3 * total).then(|| (c, p[p.len() - 1]))
-        },
-    )
+    (chain(joints), prop::collection::vec(unit_quat(), 8)).prop_filter_map("not fully extended", |(c, rots)| {
+        let p = chain_world_positions(&c, &rots);
+        let total: f64 = bone_lengths(&p).iter().sum();
+        let d = p[0].distance(p[p.len() - 1]);
+        (d < 0.98 * total && d > 1e-3 * total).then(|| (c, p[p.len() - 1]))
+    })
 }
 
 proptest! {

@@ -33,9 +33,7 @@ fn arc() -> Curve {
 fn straight_chain(n: usize, len: f64) -> Chain {
     let mut joints = vec![ChainJoint::new(DVec3::ZERO)];
     for _ in 1..n {
-        joints.push(
-            ChainJoint::new(DVec3::new(len, 0.0, 0.0)).with_orient(DQuat::from_rotation_y(0.1)),
-        );
+        joints.push(ChainJoint::new(DVec3::new(len, 0.0, 0.0)).with_orient(DQuat::from_rotation_y(0.1)));
     }
     Chain {
         parent_world: DMat4::IDENTITY,
@@ -49,11 +47,7 @@ fn bone_lengths(p: &[DVec3]) -> Vec<f64> {
 
 #[test]
 fn polyline_and_clamped_ends() {
-    let pts = vec![
-        DVec3::ZERO,
-        DVec3::new(2.0, 0.0, 0.0),
-        DVec3::new(2.0, 3.0, 0.0),
-    ];
+    let pts = vec![DVec3::ZERO, DVec3::new(2.0, 0.0, 0.0), DVec3::new(2.0, 3.0, 0.0)];
     let s = BSpline::new(&curve(pts.clone(), 1)).unwrap();
     assert_eq!(s.domain(), (0.0, 2.0));
     assert!(s.point(0.5).distance(DVec3::new(1.0, 0.0, 0.0)) < 1e-15);
@@ -66,11 +60,7 @@ fn polyline_and_clamped_ends() {
     assert!(s.point(0.0).distance(c.points[0]) < 1e-15);
     assert!(s.point(2.0).distance(c.points[4]) < 1e-15);
     // Clamped cubic: the end tangent is 3 / (knot span) times the last leg.
-    assert!(
-        s.derivative(2.0)
-            .distance((c.points[4] - c.points[3]) * 3.0)
-            < 1e-12
-    );
+    assert!(s.derivative(2.0).distance((c.points[4] - c.points[3]) * 3.0) < 1e-12);
 }
 
 #[test]
@@ -85,10 +75,7 @@ fn bezier_matches_bernstein_and_derivative_matches_difference() {
     for k in 0..=10 {
         let t = k as f64 / 10.0;
         let m = 1.0 - t;
-        let b = pts[0] * m * m * m
-            + pts[1] * 3.0 * m * m * t
-            + pts[2] * 3.0 * m * t * t
-            + pts[3] * t * t * t;
+        let b = pts[0] * m * m * m + pts[1] * 3.0 * m * m * t + pts[2] * 3.0 * m * t * t + pts[3] * t * t * t;
         assert!(s.point(t).distance(b) < 1e-14);
     }
     let c = arc();
@@ -147,14 +134,8 @@ fn periodic_curve_closes_smoothly() {
 fn bad_curves_are_rejected_with_a_reason() {
     let c = arc();
     let cases = [
-        Curve {
-            degree: 0,
-            ..c.clone()
-        },
-        Curve {
-            degree: 5,
-            ..c.clone()
-        },
+        Curve { degree: 0, ..c.clone() },
+        Curve { degree: 5, ..c.clone() },
         Curve {
             knots: vec![0.0; 3],
             ..c.clone()
@@ -181,10 +162,7 @@ fn bad_curves_are_rejected_with_a_reason() {
     }
     let point = curve(vec![DVec3::ONE; 4], 3);
     let sol = solve_spline(&straight_chain(4, 1.0), &point, &SplineParams::default());
-    assert!(matches!(
-        sol.solution.status,
-        IkStatus::Invalid(IkError::Curve(_))
-    ));
+    assert!(matches!(sol.solution.status, IkStatus::Invalid(IkError::Curve(_))));
     let nan = SplineParams {
         roll: f64::NAN,
         ..Default::default()
@@ -205,11 +183,7 @@ fn assert_on_curve(spline: &BSpline, sol: &SplineSolution, p: &[DVec3], parent: 
     for (q, t) in p.iter().zip(&sol.curve_params) {
         let t = t.expect("on the curve");
         let on = parent.transform_point3(spline.point(t));
-        assert!(
-            q.distance(on) < 1e-6,
-            "joint {q:?} is {} off the curve",
-            q.distance(on)
-        );
+        assert!(q.distance(on) < 1e-6, "joint {q:?} is {} off the curve", q.distance(on));
     }
 }
 
@@ -254,10 +228,7 @@ fn spline_ik_in_a_transformed_parent() {
         assert!(q.distance(s.point(t.unwrap())) < 1e-6);
     }
     for l in bone_lengths(&p) {
-        assert!(
-            (l - 0.5).abs() < 1e-9,
-            "world bone length = parent scale * 1"
-        );
+        assert!((l - 0.5).abs() < 1e-9, "world bone length = parent scale * 1");
     }
 }
 
@@ -276,10 +247,7 @@ fn spline_ik_stretch_spans_the_curve() {
     );
     let p = posed(&chain, &sol);
     assert_on_curve(&s, &sol, &p, DMat4::IDENTITY);
-    assert!(
-        p[4].distance(c.points[4]) < 1e-9,
-        "end joint at the curve end"
-    );
+    assert!(p[4].distance(c.points[4]) < 1e-9, "end joint at the curve end");
     for (l, sc) in bone_lengths(&p).iter().zip(&sol.solution.bone_scale) {
         assert!((l - sc).abs() < 1e-9 && *sc > 2.0);
     }
@@ -293,9 +261,7 @@ fn spline_ik_stretch_spans_the_curve() {
         },
     );
     let p = posed(&chain, &capped);
-    assert!(capped.solution.bone_scale[..4]
-        .iter()
-        .all(|x| *x <= 1.2 + 1e-12));
+    assert!(capped.solution.bone_scale[..4].iter().all(|x| *x <= 1.2 + 1e-12));
     assert!(p[4].distance(c.points[4]) > 1.0);
 }
 
@@ -336,10 +302,7 @@ fn spline_roll_and_twist_on_a_straight_curve() {
     let wb = chain_world_matrices(&chain, &base.solution.rotations);
     let wr = chain_world_matrices(&chain, &rolled.solution.rotations);
     for i in 0..5 {
-        assert!(
-            wb[i].w_axis.distance(wr[i].w_axis) < 1e-12,
-            "positions do not move"
-        );
+        assert!(wb[i].w_axis.distance(wr[i].w_axis) < 1e-12, "positions do not move");
         let qb = DQuat::from_mat4(&wb[i]);
         let qr = DQuat::from_mat4(&wr[i]);
         let expected = DQuat::from_rotation_z(roll + twist * i as f64 / 4.0) * qb;

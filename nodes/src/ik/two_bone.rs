@@ -35,9 +35,7 @@
 
 use glam::{DQuat, DVec3};
 
-use super::chain::{
-    frame_to_frame, straight_positions, Chain, IkError, IkSolution, IkStatus, Prepared, EPS,
-};
+use super::chain::{frame_to_frame, straight_positions, Chain, IkError, IkSolution, IkStatus, Prepared, EPS};
 use super::iterative::{aim_axis, fabrik_positions, IterParams};
 use super::soft::{reach, ReachParams};
 
@@ -80,12 +78,7 @@ pub fn law_of_cosines(a: f64, b: f64, d: f64) -> (f64, f64) {
 }
 
 /// ikRP for exactly three joints (start, middle, end): exact law-of-cosines solve.
-pub fn solve_two_bone(
-    chain: &Chain,
-    goal: DVec3,
-    rp: &RpParams,
-    reach: &ReachParams,
-) -> IkSolution {
+pub fn solve_two_bone(chain: &Chain, goal: DVec3, rp: &RpParams, reach: &ReachParams) -> IkSolution {
     if chain.joints.len() != 3 {
         let got = chain.joints.len();
         return IkSolution::invalid(
@@ -165,13 +158,7 @@ pub fn solve_rotate_plane(
     } else {
         let mut pos: Vec<DVec3> = spos.iter().map(|p| p0 + a * (*p - p0)).collect();
         let tol = iter.tolerance.max(0.0);
-        let (it, err) = fabrik_positions(
-            &mut pos,
-            &slen,
-            p0 + u * r.distance,
-            tol,
-            iter.max_iterations,
-        );
+        let (it, err) = fabrik_positions(&mut pos, &slen, p0 + u * r.distance, tol, iter.max_iterations);
         iterations = it;
         converged = err <= tol;
         pos
@@ -219,11 +206,7 @@ impl Planes {
                 v - u_r * v.dot(u_r)
             })
             .sum();
-        let scale = rest
-            .iter()
-            .map(|p| p.distance(p0))
-            .fold(0.0, f64::max)
-            .max(1.0);
+        let scale = rest.iter().map(|p| p.distance(p0)).fold(0.0, f64::max).max(1.0);
         let w_rest = perp(bend, u_r).filter(|_| bend.length() > 1e-9 * scale);
         // Minimal rotation from the rest axis to the goal axis.
         let carry = super::chain::aim(u_r, u, DVec3::ZERO);

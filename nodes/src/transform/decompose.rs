@@ -49,10 +49,7 @@ impl Decomposed {
 /// was zero (e.g. a node scaled to 0 to hide it).
 fn split_rotation_scale_shear(a: DMat3) -> (DMat3, DVec3, DVec3) {
     let cols = [a.x_axis, a.y_axis, a.z_axis];
-    let norm = cols
-        .iter()
-        .map(|c| c.abs().max_element())
-        .fold(0.0, f64::max);
+    let norm = cols.iter().map(|c| c.abs().max_element()).fold(0.0, f64::max);
     if !norm.is_finite() || norm == 0.0 {
         return (DMat3::IDENTITY, DVec3::ZERO, DVec3::ZERO);
     }
@@ -177,25 +174,14 @@ pub fn decompose(m: DMat4, order: RotateOrder) -> Option<Decomposed> {
 /// The `composeMatrix` node: glam `T * R * SH * S` (Maya `S·SH·R·T`), no
 /// pivots. `rotate` in radians in `order`. Non-finite components are replaced
 /// by identity values.
-pub fn compose(
-    translate: DVec3,
-    rotate: DVec3,
-    order: RotateOrder,
-    scale: DVec3,
-    shear: DVec3,
-) -> DMat4 {
+pub fn compose(translate: DVec3, rotate: DVec3, order: RotateOrder, scale: DVec3, shear: DVec3) -> DMat4 {
     compose_with_rotation(translate, euler_to_mat3(rotate, order), scale, shear)
 }
 
 /// [`compose`] with the rotation given as a quaternion (normalized first;
 /// non-finite gives identity).
 pub fn compose_quat(translate: DVec3, rotation: DQuat, scale: DVec3, shear: DVec3) -> DMat4 {
-    compose_with_rotation(
-        translate,
-        DMat3::from_quat(sanitize_quat(rotation)),
-        scale,
-        shear,
-    )
+    compose_with_rotation(translate, DMat3::from_quat(sanitize_quat(rotation)), scale, shear)
 }
 
 fn compose_with_rotation(translate: DVec3, rot: DMat3, scale: DVec3, shear: DVec3) -> DMat4 {
@@ -271,11 +257,7 @@ mod tests {
         let s = DVec3::new(2.0, 3.0, 4.0);
         let m = compose(t, r, RotateOrder::Xyz, s, DVec3::ZERO);
         // hand check of compose: local X scaled by 2 then turned to +Y
-        assert!(close(
-            m.transform_vector3(DVec3::X),
-            DVec3::new(0.0, 2.0, 0.0),
-            1e-15
-        ));
+        assert!(close(m.transform_vector3(DVec3::X), DVec3::new(0.0, 2.0, 0.0), 1e-15));
         let d = decompose(m, RotateOrder::Xyz).expect("finite");
         assert!(close(d.translate, t, 1e-15));
         assert!(close(d.rotate, r, 1e-15));
@@ -312,13 +294,7 @@ mod tests {
             DVec3::new(0.0, 0.0, 3.0),
             DVec3::ZERO,
         ] {
-            let m = compose(
-                DVec3::ONE,
-                DVec3::new(0.3, 0.2, 0.1),
-                RotateOrder::Zxy,
-                s,
-                DVec3::ZERO,
-            );
+            let m = compose(DVec3::ONE, DVec3::new(0.3, 0.2, 0.1), RotateOrder::Zxy, s, DVec3::ZERO);
             let d = decompose(m, RotateOrder::Zxy).expect("finite");
             assert!(close(d.scale, s, 1e-12), "{s}: {}", d.scale);
             let back = compose(d.translate, d.rotate, RotateOrder::Zxy, d.scale, d.shear);
@@ -335,8 +311,7 @@ mod tests {
     }
 
     fn is_rotation(m: DMat3) -> bool {
-        (m.transpose() * m).abs_diff_eq(DMat3::IDENTITY, 1e-12)
-            && (m.determinant() - 1.0).abs() < 1e-12
+        (m.transpose() * m).abs_diff_eq(DMat3::IDENTITY, 1e-12) && (m.determinant() - 1.0).abs() < 1e-12
     }
 
     /// Halfway between identity and (translate (2,0,0), 90° about Z, scale 3):

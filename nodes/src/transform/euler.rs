@@ -58,9 +58,7 @@ impl RotateOrder {
     /// The order with Maya's enum index `i` (0 = `xyz` … 5 = `zyx`), or `None`
     /// when `i` is out of range.
     pub fn from_index(i: i64) -> Option<Self> {
-        usize::try_from(i)
-            .ok()
-            .and_then(|i| Self::ALL.get(i).copied())
+        usize::try_from(i).ok().and_then(|i| Self::ALL.get(i).copied())
     }
 
     /// Maya's enum index of this order (0 = `xyz` … 5 = `zyx`).
@@ -84,9 +82,7 @@ impl RotateOrder {
     /// whitespace ignored). `None` for anything else.
     pub fn from_name(name: &str) -> Option<Self> {
         let name = name.trim();
-        Self::ALL
-            .into_iter()
-            .find(|o| o.name().eq_ignore_ascii_case(name))
+        Self::ALL.into_iter().find(|o| o.name().eq_ignore_ascii_case(name))
     }
 
     /// Axis indices (0 = X, 1 = Y, 2 = Z) in application order: first, middle, last.
@@ -282,13 +278,7 @@ fn closest(rot: &DMat3, order: RotateOrder, prev: DVec3) -> DVec3 {
     let prev = finite_or_zero(prev);
     let [_, _, k] = order.axes();
     let first = extract(rot, order, prev[k]);
-    let wrap = |e: DVec3| {
-        DVec3::new(
-            wrap_near(e.x, prev.x),
-            wrap_near(e.y, prev.y),
-            wrap_near(e.z, prev.z),
-        )
-    };
+    let wrap = |e: DVec3| DVec3::new(wrap_near(e.x, prev.x), wrap_near(e.y, prev.y), wrap_near(e.z, prev.z));
     let a = wrap(first);
     let b = wrap(alternate(first, order));
     if (b - prev).abs().element_sum() < (a - prev).abs().element_sum() {
@@ -441,9 +431,7 @@ mod tests {
     #[test]
     fn non_finite_inputs() {
         let nan = DVec3::new(f64::NAN, 1.0, f64::INFINITY);
-        assert!(
-            euler_to_quat(nan, RotateOrder::Xyz).abs_diff_eq(DQuat::from_rotation_y(1.0), 1e-15)
-        );
+        assert!(euler_to_quat(nan, RotateOrder::Xyz).abs_diff_eq(DQuat::from_rotation_y(1.0), 1e-15));
         assert_eq!(
             quat_to_euler(DQuat::from_xyzw(f64::NAN, 0.0, 0.0, 1.0), RotateOrder::Zyx),
             DVec3::ZERO
@@ -455,10 +443,7 @@ mod tests {
         let e = quat_to_euler_closest(DQuat::IDENTITY, RotateOrder::Yxz, nan);
         assert!(e.is_finite());
         assert_eq!(
-            mat3_to_euler(
-                DMat3::from_diagonal(DVec3::splat(f64::NAN)),
-                RotateOrder::Xyz
-            ),
+            mat3_to_euler(DMat3::from_diagonal(DVec3::splat(f64::NAN)), RotateOrder::Xyz),
             DVec3::ZERO
         );
         // Tiny and huge finite quaternions still normalize.
@@ -482,11 +467,7 @@ mod tests {
         for from in RotateOrder::ALL {
             for to in RotateOrder::ALL {
                 let e = reorder_euler(r, from, to);
-                assert!(same_rot(
-                    euler_to_quat(e, to),
-                    euler_to_quat(r, from),
-                    1e-12
-                ));
+                assert!(same_rot(euler_to_quat(e, to), euler_to_quat(r, from), 1e-12));
             }
         }
     }

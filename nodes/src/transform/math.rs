@@ -49,12 +49,12 @@
 use glam::{DMat3, DMat4, DQuat, DVec3};
 
 pub use super::decompose::{
-    blend_matrices, compose, compose_quat, decompose, orthonormalize, remove_scale,
-    to_translate_rotate_scale, Decomposed,
+    blend_matrices, compose, compose_quat, decompose, orthonormalize, remove_scale, to_translate_rotate_scale,
+    Decomposed,
 };
 pub use super::euler::{
-    euler_to_mat3, euler_to_mat4, euler_to_quat, mat3_to_euler, mat3_to_euler_closest,
-    quat_to_euler, quat_to_euler_closest, reorder_euler, RotateOrder,
+    euler_to_mat3, euler_to_mat4, euler_to_quat, mat3_to_euler, mat3_to_euler_closest, quat_to_euler,
+    quat_to_euler_closest, reorder_euler, RotateOrder,
 };
 pub use super::orient::{aim_matrix, aim_quat, quat_blend_weighted, slerp_shortest};
 
@@ -73,11 +73,7 @@ pub(crate) fn finite_or_one(v: DVec3) -> DVec3 {
 /// `x' = x + xy·y + xz·z`, `y' = y + yz·z`. Non-finite components count as 0.
 pub fn shear_mat3(shear: DVec3) -> DMat3 {
     let s = finite_or_zero(shear);
-    DMat3::from_cols(
-        DVec3::X,
-        DVec3::new(s.x, 1.0, 0.0),
-        DVec3::new(s.y, s.z, 1.0),
-    )
+    DMat3::from_cols(DVec3::X, DVec3::new(s.x, 1.0, 0.0), DVec3::new(s.y, s.z, 1.0))
 }
 
 /// Maya's world matrix from a local matrix and the parent's world matrix:
@@ -140,9 +136,7 @@ impl TransformParams {
         let tr = |v: DVec3| DMat4::from_translation(finite_or_zero(v));
         let sp = finite_or_zero(self.scale_pivot);
         let rp = finite_or_zero(self.rotate_pivot);
-        let scale_shear = DMat4::from_mat3(
-            shear_mat3(self.shear) * DMat3::from_diagonal(finite_or_one(self.scale)),
-        );
+        let scale_shear = DMat4::from_mat3(shear_mat3(self.shear) * DMat3::from_diagonal(finite_or_one(self.scale)));
         tr(self.translate)
             * tr(self.rotate_pivot_translate)
             * DMat4::from_translation(rp)
@@ -157,17 +151,14 @@ impl TransformParams {
     /// The node's rotation `RA` then `R` (Maya `RA·R`, glam `R * RA`) as a
     /// matrix.
     pub fn rotation_mat3(&self) -> DMat3 {
-        euler_to_mat3(self.rotate, self.rotate_order)
-            * euler_to_mat3(self.rotate_axis, RotateOrder::Xyz)
+        euler_to_mat3(self.rotate, self.rotate_order) * euler_to_mat3(self.rotate_axis, RotateOrder::Xyz)
     }
 
     /// The node's rotation `RA` then `R` (Maya `RA·R`, glam `R * RA`) as a
     /// quaternion: the orientation the node gives its children, ignoring
     /// scale and shear.
     pub fn rotation_quat(&self) -> DQuat {
-        (euler_to_quat(self.rotate, self.rotate_order)
-            * euler_to_quat(self.rotate_axis, RotateOrder::Xyz))
-        .normalize()
+        (euler_to_quat(self.rotate, self.rotate_order) * euler_to_quat(self.rotate_axis, RotateOrder::Xyz)).normalize()
     }
 }
 
@@ -367,14 +358,10 @@ mod tests {
     /// Maya R for an order: the three axis matrices in application order.
     fn row_euler(r: DVec3, order: RotateOrder) -> Row4 {
         let [i, j, k] = order.axes();
-        row_mul(
-            &row_mul(&row_rot(i, r[i]), &row_rot(j, r[j])),
-            &row_rot(k, r[k]),
-        )
+        row_mul(&row_mul(&row_rot(i, r[i]), &row_rot(j, r[j])), &row_rot(k, r[k]))
     }
     fn row_product(ms: &[Row4]) -> Row4 {
-        ms.iter()
-            .fold(row_scale(DVec3::ONE), |acc, m| row_mul(&acc, m))
+        ms.iter().fold(row_scale(DVec3::ONE), |acc, m| row_mul(&acc, m))
     }
     /// A Maya row matrix as glam: Maya prints rows, glam takes columns, so the
     /// same 16 numbers in the same order give the transpose.
@@ -403,13 +390,7 @@ mod tests {
         assert_eq!(TransformParams::default().local_matrix(), DMat4::IDENTITY);
         assert_eq!(JointParams::default().local_matrix(), DMat4::IDENTITY);
         assert_eq!(
-            compose(
-                DVec3::ZERO,
-                DVec3::ZERO,
-                RotateOrder::Zyx,
-                DVec3::ONE,
-                DVec3::ZERO
-            ),
+            compose(DVec3::ZERO, DVec3::ZERO, RotateOrder::Zyx, DVec3::ONE, DVec3::ZERO),
             DMat4::IDENTITY
         );
     }
@@ -487,18 +468,9 @@ mod tests {
             .local_matrix()
             .transform_point3(p)
         };
-        assert_eq!(
-            apply(DVec3::new(1.0, 0.0, 0.0), DVec3::Y),
-            DVec3::new(1.0, 1.0, 0.0)
-        );
-        assert_eq!(
-            apply(DVec3::new(0.0, 1.0, 0.0), DVec3::Z),
-            DVec3::new(1.0, 0.0, 1.0)
-        );
-        assert_eq!(
-            apply(DVec3::new(0.0, 0.0, 1.0), DVec3::Z),
-            DVec3::new(0.0, 1.0, 1.0)
-        );
+        assert_eq!(apply(DVec3::new(1.0, 0.0, 0.0), DVec3::Y), DVec3::new(1.0, 1.0, 0.0));
+        assert_eq!(apply(DVec3::new(0.0, 1.0, 0.0), DVec3::Z), DVec3::new(1.0, 0.0, 1.0));
+        assert_eq!(apply(DVec3::new(0.0, 0.0, 1.0), DVec3::Z), DVec3::new(0.0, 1.0, 1.0));
         assert_eq!(apply(DVec3::new(1.0, 1.0, 1.0), DVec3::X), DVec3::X);
     }
 
@@ -532,10 +504,7 @@ mod tests {
                 scale_pivot_translate: DVec3::new(0.4, 0.0, -0.6),
                 rotate_axis: DVec3::new(0.1, 0.7, -0.3),
             };
-            assert!(
-                mat_close(p.local_matrix(), maya_transform(&p), 1e-14),
-                "{order}"
-            );
+            assert!(mat_close(p.local_matrix(), maya_transform(&p), 1e-14), "{order}");
         }
     }
 
@@ -553,11 +522,7 @@ mod tests {
         let m = j.local_matrix();
         assert!(close(m.transform_vector3(DVec3::X), DVec3::Y, 1e-15));
         assert!(close(m.transform_vector3(DVec3::Y), DVec3::Z, 1e-15));
-        assert!(close(
-            m.transform_point3(DVec3::ZERO),
-            DVec3::new(1.0, 2.0, 3.0),
-            1e-15
-        ));
+        assert!(close(m.transform_point3(DVec3::ZERO), DVec3::new(1.0, 2.0, 3.0), 1e-15));
         assert!(close(j.rotation_quat() * DVec3::Y, DVec3::Z, 1e-15));
     }
 
@@ -617,9 +582,7 @@ mod tests {
         };
         let m = bad.local_matrix();
         assert!(m.is_finite());
-        assert!(
-            DMat3::from_mat4(m).abs_diff_eq(DMat3::from_diagonal(DVec3::new(1.0, 1.0, 0.5)), 0.0)
-        );
+        assert!(DMat3::from_mat4(m).abs_diff_eq(DMat3::from_diagonal(DVec3::new(1.0, 1.0, 0.5)), 0.0));
     }
 
     #[test]
@@ -648,10 +611,7 @@ mod tests {
             ..Default::default()
         };
         assert_eq!(j.local_matrix(), DMat4::IDENTITY);
-        assert_eq!(
-            compose(nan, nan, RotateOrder::Xyz, nan, nan),
-            DMat4::IDENTITY
-        );
+        assert_eq!(compose(nan, nan, RotateOrder::Xyz, nan, nan), DMat4::IDENTITY);
         assert!(decompose(
             DMat4::from_diagonal(glam::DVec4::splat(f64::INFINITY)),
             RotateOrder::Xyz
@@ -674,13 +634,7 @@ mod tests {
             ..Default::default()
         };
         let target = j.rotation_quat();
-        let r = rotate_for_orientation(
-            target,
-            j.rotate_order,
-            j.rotate_axis,
-            j.joint_orient,
-            Some(j.rotate),
-        );
+        let r = rotate_for_orientation(target, j.rotate_order, j.rotate_axis, j.joint_orient, Some(j.rotate));
         assert!(close(r, j.rotate, 1e-12), "{r}");
         let r = rotate_for_orientation(target, j.rotate_order, j.rotate_axis, j.joint_orient, None);
         let j2 = JointParams { rotate: r, ..j };

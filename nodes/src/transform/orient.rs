@@ -62,13 +62,7 @@ fn rotation_arc(from: DVec3, to: DVec3) -> DQuat {
 /// * `world_up` zero, non-finite or parallel to the aim direction: the up
 ///   axis follows the shortest-arc rotation from `aim_axis` to the aim
 ///   direction (no twist). Pass `DVec3::ZERO` for Maya's worldUpType "none".
-pub fn aim_matrix(
-    from: DVec3,
-    aim_target: DVec3,
-    aim_axis: DVec3,
-    up_axis: DVec3,
-    world_up: DVec3,
-) -> DMat3 {
+pub fn aim_matrix(from: DVec3, aim_target: DVec3, aim_axis: DVec3, up_axis: DVec3, world_up: DVec3) -> DMat3 {
     let a = unit(aim_axis).unwrap_or(DVec3::X);
     let u = perpendicular_part(up_axis, a).unwrap_or_else(|| perpendicular(a));
     let local = DMat3::from_cols(a, u, a.cross(u));
@@ -84,13 +78,7 @@ pub fn aim_matrix(
 }
 
 /// [`aim_matrix`] as a unit quaternion.
-pub fn aim_quat(
-    from: DVec3,
-    aim_target: DVec3,
-    aim_axis: DVec3,
-    up_axis: DVec3,
-    world_up: DVec3,
-) -> DQuat {
+pub fn aim_quat(from: DVec3, aim_target: DVec3, aim_axis: DVec3, up_axis: DVec3, world_up: DVec3) -> DQuat {
     let m = aim_matrix(from, aim_target, aim_axis, up_axis, world_up);
     sanitize_quat(DQuat::from_mat3(&m))
 }
@@ -157,8 +145,7 @@ mod tests {
     }
 
     fn is_rotation(m: DMat3) -> bool {
-        (m.transpose() * m).abs_diff_eq(DMat3::IDENTITY, 1e-12)
-            && (m.determinant() - 1.0).abs() < 1e-12
+        (m.transpose() * m).abs_diff_eq(DMat3::IDENTITY, 1e-12) && (m.determinant() - 1.0).abs() < 1e-12
     }
 
     /// Aim +X at a target straight up (+Y), up axis +Y, world up +Z:
@@ -177,13 +164,7 @@ mod tests {
         assert!(close(m * DVec3::X, DVec3::Y, 1e-15));
         assert!(close(m * DVec3::Y, DVec3::Z, 1e-15));
         assert!(close(m * DVec3::Z, DVec3::X, 1e-15));
-        let q = aim_quat(
-            DVec3::ONE,
-            DVec3::new(1.0, 5.0, 1.0),
-            DVec3::X,
-            DVec3::Y,
-            DVec3::Z,
-        );
+        let q = aim_quat(DVec3::ONE, DVec3::new(1.0, 5.0, 1.0), DVec3::X, DVec3::Y, DVec3::Z);
         assert!(close(q * DVec3::X, DVec3::Y, 1e-15));
     }
 
