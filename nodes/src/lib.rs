@@ -9,12 +9,18 @@ use std::sync::Arc;
 use sinew_core::{Registry, SpecError};
 
 pub mod anim;
+pub mod constraint;
 pub mod ik;
+pub mod math;
 pub mod transform;
 
 /// Registers every standard node type.
 pub fn register_all(registry: &mut Registry) -> Result<(), SpecError> {
-    let _ = registry;
+    transform::register(registry)?;
+    math::register(registry)?;
+    anim::register(registry)?;
+    constraint::register(registry)?;
+    ik::register(registry)?;
     Ok(())
 }
 

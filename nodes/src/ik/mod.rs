@@ -57,3 +57,9 @@ mod tests;
 mod tests_props;
 #[cfg(test)]
 mod tests_spline;
+
+/// Registers this family's node types.
+pub fn register(registry: &mut sinew_core::Registry) -> Result<(), sinew_core::SpecError> {
+    let _ = registry;
+    Ok(())
+}

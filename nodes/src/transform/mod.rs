@@ -7,3 +7,9 @@ pub mod decompose;
 pub mod euler;
 pub mod math;
 pub mod orient;
+
+/// Registers this family's node types.
+pub fn register(registry: &mut sinew_core::Registry) -> Result<(), sinew_core::SpecError> {
+    let _ = registry;
+    Ok(())
+}

@@ -1,0 +1,9 @@
+//! Utility math nodes (multiplyDivide, condition, plusMinusAverage, ...), Maya-compatible.
+
+use sinew_core::{Registry, SpecError};
+
+/// Registers this family's node types.
+pub fn register(registry: &mut Registry) -> Result<(), SpecError> {
+    let _ = registry;
+    Ok(())
+}
