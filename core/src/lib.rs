@@ -14,6 +14,7 @@ pub mod node;
 pub mod path;
 pub mod program;
 pub mod registry;
+pub mod rig;
 pub mod spec;
 pub mod testing;
 pub mod value;
@@ -24,8 +25,12 @@ pub use graph::{EvalStats, Graph, NodeId, Plug};
 pub use node::{ComputeContext, NodeType, Time};
 pub use program::{evaluate_batch, CompileOptions, Instance, PlugHandle, Program};
 pub use registry::Registry;
+pub use rig::{
+    format_rig_file, graph_eq, load_rig, load_rig_str, rig_dependencies, save_rig, to_dot, to_json, Diagnostic, Diagnostics,
+    LoadedRig, RigDocument,
+};
 pub use spec::{
-    AttrId, AttrSpec, ComputeGroup, DagSpec, Direction, Input, MultiInput, MultiOutput, NodeSpec, Output, SpecBuilder,
-    Unit,
+    AttrId, AttrSpec, ComputeGroup, DagSpec, Direction, Input, MirrorRole, MultiInput, MultiOutput, NodeSpec, Output,
+    SpecBuilder, Unit,
 };
 pub use value::{AttrType, AttrValue, SharedData, Value};

@@ -205,27 +205,28 @@ impl<'a> ComputeContext<'a> {
     }
 
     #[inline]
-    fn write(&mut self, id: AttrId, k: usize, v: Value) {
+    fn write<T: AttrValue>(&mut self, id: AttrId, k: usize, v: T) {
         if self.spec.group_of(id) != Some(self.group) {
             return;
         }
         match &mut self.io {
-            Io::Lazy(io) => {
-                if let Some(e) = io.attrs.get_mut(id.index()).and_then(|a| a.elems.get_mut(k)) {
-                    if !e.value.same_bits(&v) {
-                        e.value = v;
-                        e.changed_at = io.revision;
-                    }
-                }
-            }
             Io::Compiled(io) => {
                 if let Some(b) = io.attrs.get(id.index()) {
                     if k < b.len as usize {
                         if let Some(Binding::Slot(s)) = io.tables.elems.get(b.first as usize + k).map(|e| e.binding) {
                             if let Some(slot) = io.slots.get_mut(s as usize) {
-                                *slot = v;
+                                v.write_into(slot);
                             }
                         }
+                    }
+                }
+            }
+            Io::Lazy(io) => {
+                if let Some(e) = io.attrs.get_mut(id.index()).and_then(|a| a.elems.get_mut(k)) {
+                    let v = v.into_value();
+                    if !e.value.same_bits(&v) {
+                        e.value = v;
+                        e.changed_at = io.revision;
                     }
                 }
             }
@@ -235,14 +236,14 @@ impl<'a> ComputeContext<'a> {
     /// Writes a single-valued output.
     #[inline]
     pub fn set<T: AttrValue>(&mut self, h: Output<T>, v: T) {
-        self.write(h.id(), 0, v.into_value());
+        self.write(h.id(), 0, v);
     }
 
     /// Writes element `index` of a multi output (ignored when nothing reads that element).
     pub fn set_at<T: AttrValue>(&mut self, h: MultiOutput<T>, index: u32, v: T) {
         let n = self.elem_count(h.id());
         if let Some(k) = (0..n).find(|&k| self.elem_index(h.id(), k) == Some(index)) {
-            self.write(h.id(), k, v.into_value());
+            self.write(h.id(), k, v);
         }
     }
 

@@ -73,6 +73,49 @@ pub struct AttrSpec {
     pub unit: Unit,
     /// One line on what the attribute is for.
     pub doc: String,
+    /// How the value changes when a rig component is instantiated mirrored
+    /// (see [`MirrorRole`]); `None` leaves it unchanged.
+    pub mirror: MirrorRole,
+}
+
+/// How an authored attribute value changes when a rig component is
+/// instantiated mirrored across a plane (Maya's mirrorJoint, *behavior* mode).
+///
+/// Declared by plugins with [`SpecBuilder::mirror`]; the rig loader applies
+/// it, so the core needs no attribute or node-type names. "Root" below means
+/// a node whose DAG parent is not created by the same mirrored instance (or
+/// that has no DAG hookup); "child" means its parent is mirrored with it.
+/// `S` is the reflection across the plane and `D = -S` the 180-degree turn
+/// about the plane's normal.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum MirrorRole {
+    /// Unchanged (scale, weights, blend factors, twist...).
+    #[default]
+    None,
+    /// A position in the parent's space (`translate`, pivots): reflected
+    /// (`S t`) on a root, negated (`-t`) on a child. vec3.
+    Translate,
+    /// Euler angles in degrees in the node's rotate order (`rotate`), or a
+    /// rotation quaternion: on a root *without* a `JointOrient` attribute the
+    /// rotation becomes `D R`; otherwise unchanged. vec3 or quat.
+    Rotate,
+    /// A joint's orientation (Euler XYZ degrees, or a quaternion), applied
+    /// after `Rotate` (`M = S RA R JO T`, row vectors): on a root it absorbs
+    /// the mirror (`JO' = D JO`) so the rotate channels stay as authored;
+    /// unchanged on a child. vec3 or quat.
+    JointOrient,
+    /// The enum holding the node's rotate order, in Maya's index order
+    /// (xyz, yzx, zxy, xzy, yxz, zyx); read to interpret `Rotate`. Unchanged.
+    RotateOrder,
+    /// A direction or point in world space (a pole vector, a world up
+    /// vector): reflected (`S v`) on every node. vec3.
+    WorldVector,
+    /// A vector in the node's own local frame (an aim or up vector): negated,
+    /// because behavior mirroring turns every local axis around. vec3.
+    LocalVector,
+    /// A local transform matrix in the parent's space (`offsetParentMatrix`):
+    /// `S M N` on a root, `N M N` on a child (`N` negates the local axes). matrix.
+    Matrix,
 }
 
 impl AttrSpec {
@@ -224,6 +267,7 @@ impl SpecBuilder {
             enum_names: Vec::new(),
             unit: Unit::None,
             doc: String::new(),
+            mirror: MirrorRole::None,
         });
         id
     }
@@ -287,6 +331,15 @@ impl SpecBuilder {
     pub fn unit(&mut self, id: impl Into<AttrId>, unit: Unit) -> &mut Self {
         if let Some(a) = self.attr_mut(id) {
             a.unit = unit;
+        }
+        self
+    }
+
+    /// Declares how the attribute's authored value is mirrored when a rig
+    /// component is instantiated with `mirror:` (see [`MirrorRole`]).
+    pub fn mirror(&mut self, id: impl Into<AttrId>, role: MirrorRole) -> &mut Self {
+        if let Some(a) = self.attr_mut(id) {
+            a.mirror = role;
         }
         self
     }

@@ -4,12 +4,12 @@
 
 use std::sync::Arc;
 
-use glam::DVec3;
+use glam::{DMat4, DVec3};
 
 use crate::error::{ComputeError, SpecError};
 use crate::node::{ComputeContext, NodeType};
 use crate::registry::Registry;
-use crate::spec::{Input, MultiInput, MultiOutput, NodeSpec, Output};
+use crate::spec::{Input, MirrorRole, MultiInput, MultiOutput, NodeSpec, Output, Unit};
 
 /// `add`: `output = input1 + input2` (floats).
 pub struct Add {
@@ -244,6 +244,95 @@ impl NodeType for TimeSource {
     }
 }
 
+/// `testJoint` / `testTransform`: a small DAG node with Maya-like channels
+/// and mirror roles, for rig-file tests. `matrix = T * JO * R` (column
+/// vectors, rotate order honoured, scale ignored), `worldMatrix =
+/// parentMatrix * matrix`. `testJoint` has `jointOrient` and an
+/// `inverseScale` fed by its parent's `scale`; `testTransform` has an
+/// `aimVector` (local) and a `worldUpVector` (world) instead.
+pub struct TestXform {
+    spec: NodeSpec,
+    translate: Input<DVec3>,
+    rotate: Input<DVec3>,
+    rotate_order: Input<i64>,
+    joint_orient: Option<Input<DVec3>>,
+    parent_matrix: Input<DMat4>,
+    matrix: Output<DMat4>,
+    world_matrix: Output<DMat4>,
+}
+
+impl TestXform {
+    /// Creates `testJoint` (`joint = true`) or `testTransform`.
+    pub fn new(joint: bool) -> Result<Self, SpecError> {
+        let mut s = NodeSpec::builder(if joint { "testJoint" } else { "testTransform" });
+        s.doc("a minimal transform for rig-file tests");
+        let translate = s.input("translate", DVec3::ZERO);
+        let rotate = s.input("rotate", DVec3::ZERO);
+        let rotate_order = s.input_enum("rotateOrder", &["xyz", "yzx", "zxy", "xzy", "yxz", "zyx"], 0);
+        let scale = s.input("scale", DVec3::ONE);
+        let joint_orient = joint.then(|| s.input("jointOrient", DVec3::ZERO));
+        let inverse_scale = joint.then(|| s.input("inverseScale", DVec3::ONE));
+        let extra = (!joint).then(|| (s.input("aimVector", DVec3::X), s.input("worldUpVector", DVec3::Y)));
+        let parent_matrix = s.input("parentMatrix", DMat4::IDENTITY);
+        let matrix = s.output("matrix", DMat4::IDENTITY);
+        let world_matrix = s.output("worldMatrix", DMat4::IDENTITY);
+        s.mirror(translate, MirrorRole::Translate)
+            .mirror(rotate, MirrorRole::Rotate)
+            .mirror(rotate_order, MirrorRole::RotateOrder)
+            .unit(rotate, Unit::Degrees);
+        let mut local = vec![translate.id(), rotate.id(), rotate_order.id(), scale.id()];
+        if let Some(jo) = joint_orient {
+            s.mirror(jo, MirrorRole::JointOrient).unit(jo, Unit::Degrees);
+            local.push(jo.id());
+        }
+        if let Some((aim, up)) = extra {
+            s.mirror(aim, MirrorRole::LocalVector).mirror(up, MirrorRole::WorldVector);
+        }
+        s.affects(&local, &[matrix.id(), world_matrix.id()]);
+        s.affects(&[parent_matrix.id()], &[world_matrix.id()]);
+        if let Some(is) = inverse_scale {
+            s.affects(&[is.id()], &[matrix.id(), world_matrix.id()]);
+        }
+        s.dag(parent_matrix, world_matrix);
+        if let Some(is) = inverse_scale {
+            s.dag_link("scale", is);
+        }
+        Ok(TestXform {
+            spec: s.build()?,
+            translate,
+            rotate,
+            rotate_order,
+            joint_orient,
+            parent_matrix,
+            matrix,
+            world_matrix,
+        })
+    }
+}
+
+impl NodeType for TestXform {
+    fn spec(&self) -> &NodeSpec {
+        &self.spec
+    }
+    fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
+        let order = ctx.get(self.rotate_order);
+        let r = crate::rig::mirror::euler_to_quat(ctx.get(self.rotate), order);
+        let jo = self
+            .joint_orient
+            .map(|h| crate::rig::mirror::euler_to_quat(ctx.get(h), 0))
+            .unwrap_or_default();
+        let local = DMat4::from_translation(ctx.get(self.translate)) * DMat4::from_quat(jo * r);
+        if ctx.wants(self.matrix) {
+            ctx.set(self.matrix, local);
+        }
+        if ctx.wants(self.world_matrix) {
+            let w = ctx.get(self.parent_matrix) * local;
+            ctx.set(self.world_matrix, w);
+        }
+        Ok(())
+    }
+}
+
 /// A registry with all the test node types.
 pub fn registry() -> Result<Arc<Registry>, SpecError> {
     let mut r = Registry::new();
@@ -253,5 +342,7 @@ pub fn registry() -> Result<Arc<Registry>, SpecError> {
     r.register(VecScale::new()?)?;
     r.register(SumMulti::new()?)?;
     r.register(TimeSource::new()?)?;
+    r.register(TestXform::new(true)?)?;
+    r.register(TestXform::new(false)?)?;
     Ok(Arc::new(r))
 }

@@ -394,6 +394,11 @@ pub trait AttrValue: Sized + Default + 'static {
     fn from_value(v: &Value) -> Option<Self>;
     /// Wraps the value.
     fn into_value(self) -> Value;
+    /// Stores the value into `slot`, in place when the slot already holds this type.
+    #[inline]
+    fn write_into(self, slot: &mut Value) {
+        *slot = self.into_value();
+    }
 }
 
 macro_rules! attr_value {
@@ -410,6 +415,13 @@ macro_rules! attr_value {
             #[inline]
             fn into_value(self) -> Value {
                 Value::$var(self)
+            }
+            #[inline]
+            fn write_into(self, slot: &mut Value) {
+                match slot {
+                    Value::$var(x) => *x = self,
+                    other => *other = Value::$var(self),
+                }
             }
         }
     };

@@ -174,9 +174,7 @@ pub fn parse_bvh(text: &str) -> Result<Bvh, BvhError> {
         let line = first.map_or(1, |i| i + 1);
         return err(line, "expected HIERARCHY at the start of the file");
     };
-    let motion = lines
-        .iter()
-        .position(|l| l.split_whitespace().next() == Some("MOTION"));
+    let motion = lines.iter().position(|l| l.split_whitespace().next() == Some("MOTION"));
     let hier_end = motion.unwrap_or(lines.len());
     let toks = lines[first + 1..hier_end]
         .iter()
@@ -216,12 +214,18 @@ pub fn parse_bvh(text: &str) -> Result<Bvh, BvhError> {
     };
     let (fl, frames) = header(rest.next(), "Frames")?;
     let frame_count: usize = frames.parse().or_else(|_| {
-        err(fl, format!("expected a whole number of frames after 'Frames:' but found '{frames}'"))
+        err(
+            fl,
+            format!("expected a whole number of frames after 'Frames:' but found '{frames}'"),
+        )
     })?;
     let (tl, ft) = header(rest.next(), "Frame Time")?;
     let frame_time = parse_num(&ft).filter(|&t| t > 0.0);
     let Some(frame_time) = frame_time else {
-        return err(tl, format!("expected a positive number after 'Frame Time:' but found '{ft}'"));
+        return err(
+            tl,
+            format!("expected a positive number after 'Frame Time:' but found '{ft}'"),
+        );
     };
 
     let mut values = Vec::new();
@@ -229,7 +233,10 @@ pub fn parse_bvh(text: &str) -> Result<Bvh, BvhError> {
     for i in rest {
         let line = i + 1;
         if read == frame_count {
-            return err(line, format!("extra data after the {frame_count} frames declared on line {fl}"));
+            return err(
+                line,
+                format!("extra data after the {frame_count} frames declared on line {fl}"),
+            );
         }
         let before = values.len();
         for (k, t) in lines[i].split_whitespace().enumerate() {
@@ -244,9 +251,7 @@ pub fn parse_bvh(text: &str) -> Result<Bvh, BvhError> {
         if got != channel_count {
             return err(
                 line,
-                format!(
-                    "frame {read} has {got} values but the hierarchy declares {channel_count} channels"
-                ),
+                format!("frame {read} has {got} values but the hierarchy declares {channel_count} channels"),
             );
         }
         read += 1;
@@ -391,7 +396,10 @@ fn parse_hierarchy(tk: &mut Tokens) -> Result<Vec<BvhJoint>, BvhError> {
                     let what = if top.end_site { "End Site" } else { "joint" };
                     return err(
                         line,
-                        format!("{what} {} (opened on line {}) has no OFFSET", joints[top.joint].name, top.line),
+                        format!(
+                            "{what} {} (opened on line {}) has no OFFSET",
+                            joints[top.joint].name, top.line
+                        ),
                     );
                 }
             }
@@ -509,10 +517,7 @@ impl Bvh {
     /// World positions of all joints at `frame` by forward kinematics (empty when
     /// `frame` is out of range).
     pub fn world_positions(&self, frame: usize) -> Vec<DVec3> {
-        self.world_matrices(frame)
-            .iter()
-            .map(|m| m.w_axis.truncate())
-            .collect()
+        self.world_matrices(frame).iter().map(|m| m.w_axis.truncate()).collect()
     }
 
     /// World positions of each joint's End Site at `frame` (`None` for joints without one).

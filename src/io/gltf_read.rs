@@ -2,25 +2,25 @@
 //! [`Scene`].
 //!
 //! The `gltf` crate parses and schema-validates the JSON (index ranges, enums,
-//! required fields). Everything that touches bytes is done here with explicit bounds
-//! checks, so corrupt files give a [`GltfError`] and never a panic: the GLB container,
-//! buffer loading, accessor reads (strides, sparse substitution, normalized integers),
-//! NaN/infinity, vertex and joint index ranges, hierarchy cycles and animation key
-//! counts.
+//! required fields), after a pre-check of the few places where its validation would
+//! panic or look away. Bytes are decoded by the sibling `gltf_binary` module with
+//! explicit bounds checks; this module then checks semantics: accessor types per use,
+//! NaN/infinity, vertex and joint index ranges, one parent per node, animation key
+//! order and counts. Corrupt files give a [`GltfError`], never a panic.
 
 use std::path::Path;
 
-use base64::Engine as _;
 use glam::{Mat4, Quat, Vec2, Vec3};
-use gltf::accessor::{DataType, Dimensions};
+use gltf::accessor::Dimensions;
 use gltf::animation::{Interpolation as GInterp, Property};
 use gltf::mesh::{Mode, Semantic};
 
+use super::gltf_binary::{load_buffers, split_glb, Buffers, Kind};
 use super::scene::{
-    AnimPath, Animation, AnimationChannel, GltfError, Interpolation, MorphTarget, Node, Primitive,
-    Scene, SceneMesh, Skin,
+    AnimPath, Animation, AnimationChannel, GltfError, Interpolation, MorphTarget, Node, Primitive, Scene, SceneMesh,
+    Skin,
 };
-use crate::data::Weights;
+use sinew_core::data::Weights;
 
 /// Reads a `.gltf` or `.glb` file; external buffers resolve relative to its folder.
 pub fn read_gltf(path: impl AsRef<Path>) -> Result<Scene, GltfError> {
@@ -42,7 +42,7 @@ pub fn read_gltf_slice(bytes: &[u8], base_dir: Option<&Path>) -> Result<Scene, G
     };
     let root: gltf::json::Root =
         gltf::json::deserialize::from_slice(json).map_err(|e| GltfError::Json(e.to_string()))?;
-    check_animation_targets(&root)?;
+    precheck(&root)?;
     let doc = gltf::Document::from_json(root).map_err(|e| match e {
         gltf::Error::Validation(list) => GltfError::Validation(
             list.iter()
@@ -53,15 +53,42 @@ pub fn read_gltf_slice(bytes: &[u8], base_dir: Option<&Path>) -> Result<Scene, G
         ),
         other => GltfError::Validation(other.to_string()),
     })?;
-    let buffers = load_buffers(&doc, bin, base_dir)?;
+    let buffers = Buffers(load_buffers(&doc, bin, base_dir)?);
     Reader { doc: &doc, buffers }.scene()
 }
 
-/// gltf-json 1.4's `Animation` validation skips channel targets (node index and
-/// path), and the crate's accessors unwrap them later, so check them here first.
-fn check_animation_targets(root: &gltf::json::Root) -> Result<(), GltfError> {
+/// Checks what gltf-json 1.4's validation would otherwise panic on or skip: its
+/// primitive hook indexes `accessors` with the unchecked POSITION index, and its
+/// `Animation` validation skips channel targets (node index and path), which the
+/// crate's accessors unwrap later. (Found by mutating digits of the assets' JSON.)
+fn precheck(root: &gltf::json::Root) -> Result<(), GltfError> {
     use gltf::json::validation::Validate;
     let mut problems = Vec::new();
+    // Required extensions that change how geometry or animation bytes are stored
+    // (Draco, meshopt, quantization, ...) cannot be read; material-only ones are harmless.
+    let harmless = ["KHR_materials_", "KHR_texture_", "KHR_lights_punctual", "EXT_texture_"];
+    for ext in &root.extensions_required {
+        if !harmless.iter().any(|h| ext.starts_with(h)) {
+            return Err(GltfError::Invalid(format!(
+                "the file requires extension {ext}, which sinew cannot read; \
+                 re-export it without {ext} (e.g. without mesh compression)"
+            )));
+        }
+    }
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            for (semantic, index) in &prim.attributes {
+                if index.value() >= root.accessors.len() {
+                    problems.push(format!(
+                        "meshes[{m}].primitives[{p}].attributes: {semantic:?} uses accessor {} \
+                         but there are {}",
+                        index.value(),
+                        root.accessors.len()
+                    ));
+                }
+            }
+        }
+    }
     for (a, anim) in root.animations.iter().enumerate() {
         for (c, ch) in anim.channels.iter().enumerate() {
             let path = || {
@@ -83,278 +110,22 @@ fn check_animation_targets(root: &gltf::json::Root) -> Result<(), GltfError> {
     }
 }
 
-/// Splits a GLB container into its JSON chunk and optional BIN chunk, checking every
-/// length against the data actually present (GLB 2.0, section "Binary glTF Layout").
-fn split_glb(bytes: &[u8]) -> Result<(&[u8], Option<&[u8]>), GltfError> {
-    let bad = |m: String| GltfError::Glb(m);
-    let u32_at = |o: usize| -> Option<usize> {
-        let b = bytes.get(o..o + 4)?;
-        Some(u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize)
-    };
-    let version = u32_at(4).ok_or_else(|| bad("file ends inside the 12-byte header".into()))?;
-    if version != 2 {
-        return Err(bad(format!("version {version}, only glTF 2 is supported")));
-    }
-    let total = u32_at(8).ok_or_else(|| bad("file ends inside the 12-byte header".into()))?;
-    if total > bytes.len() || total < 20 {
-        return Err(bad(format!(
-            "header declares {total} bytes but the file has {} (truncated?)",
-            bytes.len()
-        )));
-    }
-    let mut chunks = Vec::new();
-    let mut at = 12;
-    while at < total {
-        let (Some(len), Some(ty)) = (u32_at(at), bytes.get(at + 4..at + 8)) else {
-            return Err(bad(format!("chunk header at byte {at} is cut off")));
-        };
-        let start = at + 8;
-        let end = start
-            .checked_add(len)
-            .filter(|&e| e <= total)
-            .ok_or_else(|| {
-                bad(format!(
-                    "chunk at byte {at} declares {len} bytes but only {} remain",
-                    total.saturating_sub(start)
-                ))
-            })?;
-        chunks.push((ty, &bytes[start..end]));
-        at = end;
-    }
-    match chunks.as_slice() {
-        [(b"JSON", json), rest @ ..] => {
-            let bin = rest.iter().find(|(t, _)| *t == b"BIN\0").map(|(_, d)| *d);
-            Ok((json, bin))
-        }
-        _ => Err(bad("the first chunk must be the JSON chunk".into())),
-    }
-}
-
-fn load_buffers(
-    doc: &gltf::Document,
-    bin: Option<&[u8]>,
-    base_dir: Option<&Path>,
-) -> Result<Vec<Vec<u8>>, GltfError> {
-    let mut out = Vec::new();
-    for buffer in doc.buffers() {
-        let index = buffer.index();
-        let err = |message: String| GltfError::Buffer { index, message };
-        let data = match buffer.source() {
-            gltf::buffer::Source::Bin => bin
-                .ok_or_else(|| err("refers to the GLB BIN chunk but the file has none".into()))?
-                .to_vec(),
-            gltf::buffer::Source::Uri(uri) if uri.starts_with("data:") => {
-                let (_, payload) = uri
-                    .split_once(";base64,")
-                    .ok_or_else(|| err("data: URI is not base64-encoded".into()))?;
-                base64::engine::general_purpose::STANDARD
-                    .decode(payload.trim())
-                    .map_err(|e| err(format!("bad base64 in data: URI: {e}")))?
-            }
-            gltf::buffer::Source::Uri(uri) => {
-                let dir = base_dir.ok_or_else(|| {
-                    err(format!(
-                        "refers to external file '{uri}' but no base directory was given"
-                    ))
-                })?;
-                let path = dir.join(percent_decode(uri));
-                std::fs::read(&path).map_err(|e| {
-                    err(format!("cannot read external file {}: {e}", path.display()))
-                })?
-            }
-        };
-        if data.len() < buffer.length() {
-            return Err(err(format!(
-                "declares {} bytes but only {} are present (truncated?)",
-                buffer.length(),
-                data.len()
-            )));
-        }
-        let mut data = data;
-        data.truncate(buffer.length());
-        out.push(data);
-    }
-    Ok(out)
-}
-
-/// Decodes `%XX` escapes in a relative URI (glTF URIs are RFC 3986).
-fn percent_decode(uri: &str) -> String {
-    let b = uri.as_bytes();
-    let mut out = Vec::with_capacity(b.len());
-    let mut i = 0;
-    while i < b.len() {
-        let hex = b.get(i + 1..i + 3).and_then(|h| std::str::from_utf8(h).ok());
-        match (b[i], hex.and_then(|h| u8::from_str_radix(h, 16).ok())) {
-            (b'%', Some(v)) => {
-                out.push(v);
-                i += 3;
-            }
-            (c, _) => {
-                out.push(c);
-                i += 1;
-            }
-        }
-    }
-    String::from_utf8_lossy(&out).into_owned()
-}
-
-/// What kind of numbers an accessor may hold for a given use.
-#[derive(Clone, Copy, PartialEq)]
-enum Kind {
-    /// FLOAT only.
-    Float,
-    /// FLOAT or normalized unsigned byte/short (UVs, weights).
-    FloatOrUnorm,
-    /// FLOAT or any normalized integer (animation outputs for rotation and weights).
-    FloatOrNorm,
-    /// Unsigned integers, not normalized (indices, joints).
-    Uint,
-}
-
+/// Builds a [`Scene`] from a validated document and its loaded buffers.
 struct Reader<'a> {
     doc: &'a gltf::Document,
-    buffers: Vec<Vec<u8>>,
+    buffers: Buffers,
 }
 
 impl Reader<'_> {
-    /// Reads accessor `acc` as `f64` components, checking type, bounds and finiteness.
-    /// Returns the flat values; `dims` lists the accepted element types.
-    fn read(
-        &self,
-        acc: &gltf::Accessor,
-        dims: &[Dimensions],
-        kind: Kind,
-        ctx: &str,
-    ) -> Result<Vec<f64>, GltfError> {
-        let err = |message: String| GltfError::Accessor {
-            index: acc.index(),
-            context: ctx.to_string(),
-            message,
-        };
-        if !dims.contains(&acc.dimensions()) {
-            return Err(err(format!(
-                "type is {:?} but {:?} is required",
-                acc.dimensions(),
-                dims
-            )));
-        }
-        let dt = acc.data_type();
-        let ok = match kind {
-            Kind::Float => dt == DataType::F32,
-            Kind::FloatOrUnorm => {
-                dt == DataType::F32
-                    || (acc.normalized() && matches!(dt, DataType::U8 | DataType::U16))
-            }
-            Kind::FloatOrNorm => dt == DataType::F32 || (acc.normalized() && dt != DataType::U32),
-            Kind::Uint => {
-                !acc.normalized() && matches!(dt, DataType::U8 | DataType::U16 | DataType::U32)
-            }
-        };
-        if !ok {
-            return Err(err(format!(
-                "component type {dt:?}{} is not allowed here",
-                if acc.normalized() { " (normalized)" } else { "" }
-            )));
-        }
-        let width = acc.dimensions().multiplicity();
-        let count = acc.count();
-        let csize = dt.size();
-        if matches!(acc.dimensions(), Dimensions::Mat2 | Dimensions::Mat3) && csize < 4 {
-            return Err(err("padded small-component matrices are not supported".into()));
-        }
-        let total = count
-            .checked_mul(width)
-            .filter(|&t| t <= 1 << 28)
-            .ok_or_else(|| err(format!("count {count} is unreasonably large")))?;
-        let mut out = vec![0.0f64; total];
-        if let Some(view) = acc.view() {
-            let elem = width * csize;
-            let stride = view.stride().unwrap_or(elem);
-            if stride < elem {
-                return Err(err(format!("byteStride {stride} is smaller than the element ({elem} bytes)")));
-            }
-            let bytes = self.view_bytes(&view, acc.index(), ctx)?;
-            let need = if count == 0 {
-                0
-            } else {
-                acc.offset().saturating_add((count - 1).saturating_mul(stride)).saturating_add(elem)
-            };
-            let data = bytes.get(acc.offset()..).filter(|_| need <= bytes.len()).ok_or_else(|| {
-                err(format!(
-                    "needs {need} bytes of buffer view {} but it has {}",
-                    view.index(),
-                    bytes.len()
-                ))
-            })?;
-            for i in 0..count {
-                for c in 0..width {
-                    let o = i * stride + c * csize;
-                    out[i * width + c] = component(&data[o..o + csize], dt, acc.normalized());
-                }
-            }
-        }
-        if let Some(sparse) = acc.sparse() {
-            let n = sparse.count();
-            let iv = sparse.indices().view();
-            let ibytes = self.view_bytes(&iv, acc.index(), ctx)?;
-            let isize = match sparse.indices().index_type() {
-                gltf::accessor::sparse::IndexType::U8 => 1,
-                gltf::accessor::sparse::IndexType::U16 => 2,
-                gltf::accessor::sparse::IndexType::U32 => 4,
-            };
-            let vv = sparse.values().view();
-            let vbytes = self.view_bytes(&vv, acc.index(), ctx)?;
-            let elem = width * csize;
-            let ioff = sparse.indices().offset();
-            let voff = sparse.values().offset();
-            let short = || err(format!("sparse data for {n} elements does not fit its buffer views"));
-            let iend = ioff.saturating_add(n.saturating_mul(isize));
-            let vend = voff.saturating_add(n.saturating_mul(elem));
-            let idata = ibytes.get(ioff..iend).ok_or_else(short)?;
-            let vdata = vbytes.get(voff..vend).ok_or_else(short)?;
-            for s in 0..n {
-                let ib = &idata[s * isize..(s + 1) * isize];
-                let target = ib.iter().rev().fold(0usize, |a, &b| (a << 8) | b as usize);
-                if target >= count {
-                    return Err(err(format!("sparse index {target} is outside {count} elements")));
-                }
-                for c in 0..width {
-                    let o = s * elem + c * csize;
-                    out[target * width + c] = component(&vdata[o..o + csize], dt, acc.normalized());
-                }
-            }
-        }
-        if let Some(i) = out.iter().position(|x| !x.is_finite()) {
-            return Err(err(format!("element {} holds NaN or infinity", i / width.max(1))));
-        }
-        Ok(out)
-    }
-
-    fn view_bytes(
-        &self,
-        view: &gltf::buffer::View,
-        acc: usize,
-        ctx: &str,
-    ) -> Result<&[u8], GltfError> {
-        let b = self.buffers.get(view.buffer().index()).map(Vec::as_slice).unwrap_or(&[]);
-        b.get(view.offset()..view.offset().saturating_add(view.length()))
-            .ok_or_else(|| GltfError::Accessor {
-                index: acc,
-                context: ctx.to_string(),
-                message: format!(
-                    "buffer view {} (bytes {}..{}) reaches past the end of buffer {} ({} bytes)",
-                    view.index(),
-                    view.offset(),
-                    view.offset().saturating_add(view.length()),
-                    view.buffer().index(),
-                    b.len()
-                ),
-            })
+    fn read(&self, acc: &gltf::Accessor, dims: &[Dimensions], kind: Kind, ctx: &str) -> Result<Vec<f64>, GltfError> {
+        self.buffers.read(acc, dims, kind, ctx)
     }
 
     fn vec3s(&self, acc: &gltf::Accessor, ctx: &str) -> Result<Vec<Vec3>, GltfError> {
         let v = self.read(acc, &[Dimensions::Vec3], Kind::Float, ctx)?;
-        Ok(v.chunks_exact(3).map(|c| Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32)).collect())
+        Ok(v.chunks_exact(3)
+            .map(|c| Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32))
+            .collect())
     }
 
     fn scene(&self) -> Result<Scene, GltfError> {
@@ -365,7 +136,9 @@ impl Reader<'_> {
         let sc = self.doc.default_scene().or_else(|| self.doc.scenes().next());
         scene.roots = match sc {
             Some(s) => s.nodes().map(|n| n.index()).collect(),
-            None => (0..scene.nodes.len()).filter(|&i| scene.nodes[i].parent.is_none()).collect(),
+            None => (0..scene.nodes.len())
+                .filter(|&i| scene.nodes[i].parent.is_none())
+                .collect(),
         };
         if let Some(&r) = scene.roots.iter().find(|&&r| scene.nodes[r].parent.is_some()) {
             return Err(GltfError::Invalid(format!("scene root node {r} has a parent")));
@@ -426,7 +199,11 @@ impl Reader<'_> {
                     node.matrix = Some(m);
                     (node.translation, node.rotation, node.scale) = (t, r, s);
                 }
-                gltf::scene::Transform::Decomposed { translation, rotation, scale } => {
+                gltf::scene::Transform::Decomposed {
+                    translation,
+                    rotation,
+                    scale,
+                } => {
                     node.translation = Vec3::from(translation);
                     node.rotation = Quat::from_array(rotation);
                     node.scale = Vec3::from(scale);
@@ -488,7 +265,10 @@ impl Reader<'_> {
                 if len == vc {
                     Ok(())
                 } else {
-                    Err(GltfError::Invalid(format!("{} has {len} elements but POSITION has {vc}", ctx(what))))
+                    Err(GltfError::Invalid(format!(
+                        "{} has {len} elements but POSITION has {vc}",
+                        ctx(what)
+                    )))
                 }
             };
             if let Some(a) = prim.get(&Semantic::Normals) {
@@ -514,7 +294,8 @@ impl Reader<'_> {
                 }
                 None => (0..vc as u32).collect(),
             };
-            p.mesh.triangles = triangulate(topo, &indices).map_err(|m| GltfError::Invalid(format!("{}: {m}", ctx("indices"))))?;
+            p.mesh.triangles =
+                triangulate(topo, &indices).map_err(|m| GltfError::Invalid(format!("{}: {m}", ctx("indices"))))?;
             p.skin_weights = self.skin_weights(&prim, vc, &ctx)?;
             for (t, target) in prim.morph_targets().enumerate() {
                 let mut mt = MorphTarget::default();
@@ -624,9 +405,16 @@ impl Reader<'_> {
                 .into_iter()
                 .map(|v| v as f32)
                 .collect();
-            let per_key = if interpolation == Interpolation::CubicSpline { 3 } else { 1 };
+            let per_key = if interpolation == Interpolation::CubicSpline {
+                3
+            } else {
+                1
+            };
             if interpolation == Interpolation::CubicSpline && times.len() < 2 {
-                return Err(GltfError::Invalid(format!("{}: CUBICSPLINE needs at least 2 keys", ctx("sampler"))));
+                return Err(GltfError::Invalid(format!(
+                    "{}: CUBICSPLINE needs at least 2 keys",
+                    ctx("sampler")
+                )));
             }
             let width = match path {
                 AnimPath::Translation | AnimPath::Scale => 3,
@@ -655,24 +443,16 @@ impl Reader<'_> {
                     values.len()
                 )));
             }
-            out.channels.push(AnimationChannel { node, path, interpolation, times, width, values });
+            out.channels.push(AnimationChannel {
+                node,
+                path,
+                interpolation,
+                times,
+                width,
+                values,
+            });
         }
         Ok(out)
-    }
-}
-
-/// One component as `f64`, applying the spec's normalized-integer decoding.
-fn component(b: &[u8], dt: DataType, normalized: bool) -> f64 {
-    let le = |n: usize| b.iter().take(n).rev().fold(0u32, |a, &x| (a << 8) | x as u32);
-    match (dt, normalized) {
-        (DataType::F32, _) => f32::from_bits(le(4)) as f64,
-        (DataType::U8, true) => le(1) as f64 / 255.0,
-        (DataType::U16, true) => le(2) as f64 / 65535.0,
-        (DataType::I8, true) => (le(1) as u8 as i8 as f64 / 127.0).max(-1.0),
-        (DataType::I16, true) => (le(2) as u16 as i16 as f64 / 32767.0).max(-1.0),
-        (DataType::I8, false) => le(1) as u8 as i8 as f64,
-        (DataType::I16, false) => le(2) as u16 as i16 as f64,
-        (DataType::U8 | DataType::U16 | DataType::U32, _) => le(dt.size()) as f64,
     }
 }
 

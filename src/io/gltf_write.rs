@@ -180,11 +180,7 @@ fn build(scene: &Scene, embed: bool) -> Result<(Value, Vec<u8>), GltfError> {
 
     let mut meshes = Vec::new();
     for mesh in &scene.meshes {
-        let prims = mesh
-            .primitives
-            .iter()
-            .map(|p| primitive(&mut b, p))
-            .collect::<Vec<_>>();
+        let prims = mesh.primitives.iter().map(|p| primitive(&mut b, p)).collect::<Vec<_>>();
         let mut v = named(json!({ "primitives": prims }), &mesh.name);
         if !mesh.weights.is_empty() {
             v["weights"] = json!(mesh.weights);
@@ -267,7 +263,9 @@ fn build(scene: &Scene, embed: bool) -> Result<(Value, Vec<u8>), GltfError> {
     let mut root = Map::new();
     root.insert("asset".into(), json!({ "version": "2.0", "generator": "sinew" }));
     let roots: Vec<usize> = if scene.roots.is_empty() {
-        (0..scene.nodes.len()).filter(|&i| scene.nodes[i].parent.is_none()).collect()
+        (0..scene.nodes.len())
+            .filter(|&i| scene.nodes[i].parent.is_none())
+            .collect()
     } else {
         scene.roots.clone()
     };
@@ -333,7 +331,7 @@ fn primitive(b: &mut Builder, p: &Primitive) -> Value {
                 l.retain(|e| e.1 > 0.0);
                 l.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
                 let sum: f32 = l.iter().map(|e| e.1).sum();
-                if l.is_empty() || !(sum > 0.0) {
+                if l.is_empty() || !sum.is_finite() {
                     return vec![(0, 1.0)];
                 }
                 l.iter_mut().for_each(|e| e.1 /= sum);
@@ -379,7 +377,10 @@ fn primitive(b: &mut Builder, p: &Primitive) -> Value {
                     } else {
                         flat3(&t.positions)
                     };
-                    tv.insert("POSITION".into(), json!(b.floats(&d, "VEC3", 3, Some(ARRAY_BUFFER), true)));
+                    tv.insert(
+                        "POSITION".into(),
+                        json!(b.floats(&d, "VEC3", 3, Some(ARRAY_BUFFER), true)),
+                    );
                 }
                 if !t.normals.is_empty() {
                     let a = b.floats(&flat3(&t.normals), "VEC3", 3, Some(ARRAY_BUFFER), false);

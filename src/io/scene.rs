@@ -12,7 +12,7 @@
 use glam::{Mat4, Quat, Vec3};
 use thiserror::Error;
 
-use crate::data::{Mesh, Weights};
+use sinew_core::data::{Mesh, Weights};
 
 /// Everything that can go wrong reading or writing glTF.
 ///
@@ -125,9 +125,8 @@ impl Default for Node {
 impl Node {
     /// The local matrix: the original matrix when there was one, else `T * R * S`.
     pub fn local_matrix(&self) -> Mat4 {
-        self.matrix.unwrap_or_else(|| {
-            Mat4::from_scale_rotation_translation(self.scale, self.rotation, self.translation)
-        })
+        self.matrix
+            .unwrap_or_else(|| Mat4::from_scale_rotation_translation(self.scale, self.rotation, self.translation))
     }
 }
 
@@ -331,10 +330,7 @@ impl AnimationChannel {
                         let h11 = td * (s3 - s2);
                         let m = w.min(a.len()).min(b.len()).min(bk.len()).min(ak1.len());
                         for i in 0..m {
-                            out[i] = h00 * a[i] as f64
-                                + h10 * bk[i] as f64
-                                + h01 * b[i] as f64
-                                + h11 * ak1[i] as f64;
+                            out[i] = h00 * a[i] as f64 + h10 * bk[i] as f64 + h01 * b[i] as f64 + h11 * ak1[i] as f64;
                         }
                     }
                 }
@@ -359,12 +355,7 @@ impl AnimationChannel {
                 } else {
                     [0.0, 0.0, 0.0, 1.0]
                 };
-                Sample::Rotation(Quat::from_xyzw(
-                    q[0] as f32,
-                    q[1] as f32,
-                    q[2] as f32,
-                    q[3] as f32,
-                ))
+                Sample::Rotation(Quat::from_xyzw(q[0] as f32, q[1] as f32, q[2] as f32, q[3] as f32))
             }
         }
     }
@@ -384,10 +375,7 @@ fn slerp_spec(a: &[f32], b: &[f32], t: f64, out: &mut [f64]) {
         (1.0 - t, sign * t)
     } else {
         let sa = angle.sin();
-        (
-            (angle * (1.0 - t)).sin() / sa,
-            sign * (angle * t).sin() / sa,
-        )
+        ((angle * (1.0 - t)).sin() / sa, sign * (angle * t).sin() / sa)
     };
     for i in 0..4 {
         out[i] = wa * a[i] as f64 + wb * b[i] as f64;
@@ -412,12 +400,7 @@ impl Scene {
     /// World matrices with local matrices supplied by `local(index, node)`, e.g. from
     /// sampled animation values.
     pub fn world_matrices_with(&self, mut local: impl FnMut(usize, &Node) -> Mat4) -> Vec<Mat4> {
-        let locals: Vec<Mat4> = self
-            .nodes
-            .iter()
-            .enumerate()
-            .map(|(i, n)| local(i, n))
-            .collect();
+        let locals: Vec<Mat4> = self.nodes.iter().enumerate().map(|(i, n)| local(i, n)).collect();
         let n = self.nodes.len();
         let parent = |i: usize| self.nodes[i].parent.filter(|&p| p < n);
         let mut world: Vec<Option<Mat4>> = vec![None; n];
@@ -435,18 +418,13 @@ impl Scene {
                 chain.push(p);
                 top = p;
             }
-            let mut acc = parent(top)
-                .and_then(|p| world[p])
-                .unwrap_or(Mat4::IDENTITY);
+            let mut acc = parent(top).and_then(|p| world[p]).unwrap_or(Mat4::IDENTITY);
             for &i in chain.iter().rev() {
                 acc *= locals[i];
                 world[i] = Some(acc);
             }
         }
-        world
-            .into_iter()
-            .map(|w| w.unwrap_or(Mat4::IDENTITY))
-            .collect()
+        world.into_iter().map(|w| w.unwrap_or(Mat4::IDENTITY)).collect()
     }
 
     /// Checks every cross reference and count, so a writer (or the importer) can trust
@@ -467,6 +445,19 @@ impl Scene {
             if node.mesh.is_some_and(|m| m >= self.meshes.len()) {
                 return Err(format!("node {i}: mesh index out of range"));
             }
+            if !node.weights.is_empty() {
+                let targets = node
+                    .mesh
+                    .and_then(|m| self.meshes.get(m))
+                    .and_then(|m| m.primitives.first())
+                    .map_or(0, |p| p.targets.len());
+                if node.weights.len() != targets {
+                    return Err(format!(
+                        "node {i}: {} morph weights but its mesh has {targets} morph targets",
+                        node.weights.len()
+                    ));
+                }
+            }
             if let Some(s) = node.skin {
                 let Some(skin) = self.skins.get(s) else {
                     return Err(format!("node {i}: skin {s} out of range"));
@@ -485,9 +476,7 @@ impl Scene {
                     }
                 }
             }
-            let finite = node.translation.is_finite()
-                && node.rotation.is_finite()
-                && node.scale.is_finite();
+            let finite = node.translation.is_finite() && node.rotation.is_finite() && node.scale.is_finite();
             if !finite {
                 return Err(format!("node {i}: non-finite transform"));
             }
@@ -530,10 +519,7 @@ impl Scene {
                 if let Some(w) = &prim.skin_weights {
                     w.validate().map_err(|e| format!("{ctx}: {e}"))?;
                     if w.vertex_count() != vc {
-                        return Err(format!(
-                            "{ctx}: {vc} vertices but weights for {}",
-                            w.vertex_count()
-                        ));
+                        return Err(format!("{ctx}: {vc} vertices but weights for {}", w.vertex_count()));
                     }
                 }
                 if prim.targets.len() != targets {
@@ -570,7 +556,11 @@ impl Scene {
                     AnimPath::Rotation => 4,
                     AnimPath::Weights => ch.width,
                 };
-                let per_key = if ch.interpolation == Interpolation::CubicSpline { 3 } else { 1 };
+                let per_key = if ch.interpolation == Interpolation::CubicSpline {
+                    3
+                } else {
+                    1
+                };
                 if ch.width != want || ch.width == 0 {
                     return Err(format!("{ctx}: width {} but {want} expected", ch.width));
                 }
@@ -584,6 +574,19 @@ impl Scene {
                 }
                 if ch.times.is_empty() {
                     return Err(format!("{ctx}: no keys"));
+                }
+                if ch.path == AnimPath::Weights {
+                    let targets = self.nodes[ch.node]
+                        .mesh
+                        .and_then(|m| self.meshes.get(m))
+                        .and_then(|m| m.primitives.first())
+                        .map_or(0, |p| p.targets.len());
+                    if targets != ch.width {
+                        return Err(format!(
+                            "{ctx}: animates {} weights but node {} has {targets} morph targets",
+                            ch.width, ch.node
+                        ));
+                    }
                 }
                 if ch.times.windows(2).any(|w| w[0] >= w[1]) {
                     return Err(format!("{ctx}: key times are not strictly increasing"));

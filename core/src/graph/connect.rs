@@ -224,13 +224,13 @@ impl Graph {
                 let e = &mut store.elems[k];
                 match dst.component {
                     None => {
-                        if e.source == Some(src) {
+                        if e.source.map(Plug::whole) == Some(src.whole()) {
                             e.source = None;
                         }
                     }
                     Some(c) => {
                         if let Some(cs) = &mut e.comp_sources {
-                            if cs[c as usize] == Some(src) {
+                            if cs[c as usize].map(Plug::whole) == Some(src.whole()) {
                                 cs[c as usize] = None;
                             }
                             if cs.iter().all(|s| s.is_none()) {

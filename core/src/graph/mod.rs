@@ -6,6 +6,7 @@
 //! `eval.rs`. Invariant kept by every operation: no plug-level cycle exists,
 //! and a failed operation leaves the graph exactly as it was.
 
+mod check;
 mod connect;
 mod edit;
 mod eval;

@@ -1,13 +1,19 @@
 //! Animation curves: Maya-compatible key/tangent evaluation ([`curve`]) and
-//! the animCurve node plugins built on it.
+//! the animCurve node plugins built on it ([`nodes`]).
 
 pub mod curve;
 mod key;
+pub mod nodes;
 mod segment;
+pub mod set_keys;
 mod tangents;
+#[cfg(test)]
+mod tests_nodes;
 
-/// Registers this family's node types.
+pub use nodes::{AnimCurveNode, CurveCache, CurveKind, TANGENT_NAMES};
+pub use set_keys::set_keys;
+
+/// Registers this family's node types (`animCurveTL/TA/TU/UL/UA/UU`).
 pub fn register(registry: &mut sinew_core::Registry) -> Result<(), sinew_core::SpecError> {
-    let _ = registry;
-    Ok(())
+    nodes::register(registry)
 }

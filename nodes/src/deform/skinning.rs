@@ -217,7 +217,29 @@ impl<'a> Kernel<'a> {
     }
 
     /// Deforms vertices `start..start + out_p.len()`; `out_n` is empty or as long as `out_p`.
+    ///
+    /// On x86-64 CPUs with AVX2 the same code is compiled a second time with AVX2 enabled
+    /// (256-bit lanes for the matrix blend) and picked at run time. Only the instruction
+    /// encoding differs: no fused multiply-add is enabled, so every IEEE operation and its
+    /// rounding is the same and results are bit-identical on every x86-64 CPU.
     fn run(&self, start: usize, out_p: &mut [Vec3], out_n: &mut [Vec3]) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") && std::env::var_os("NOAVX").is_none() {
+            // SAFETY: `run_avx2` only requires AVX2, which the CPU was just checked to have.
+            unsafe { self.run_avx2(start, out_p, out_n) };
+            return;
+        }
+        self.run_generic(start, out_p, out_n);
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn run_avx2(&self, start: usize, out_p: &mut [Vec3], out_n: &mut [Vec3]) {
+        self.run_generic(start, out_p, out_n);
+    }
+
+    #[inline(always)]
+    fn run_generic(&self, start: usize, out_p: &mut [Vec3], out_n: &mut [Vec3]) {
         let with_normals = !out_n.is_empty();
         match (self.method, with_normals) {
             (SkinMethod::Linear, false) => self.lbs_loop::<false>(start, out_p, out_n),
@@ -229,16 +251,13 @@ impl<'a> Kernel<'a> {
         }
     }
 
+    #[inline(always)]
     fn lbs_loop<const N: bool>(&self, start: usize, out_p: &mut [Vec3], out_n: &mut [Vec3]) {
         for (i, p_out) in out_p.iter_mut().enumerate() {
             let v = start + i;
             let rest = self.positions.get(v).copied().unwrap_or(Vec3::ZERO);
             let (js, ws) = self.row(v);
-            let m = match (<&[u32; 4]>::try_from(js), <&[f32; 4]>::try_from(ws)) {
-                (Ok(j4), Ok(w4)) => blend_matrix(j4, w4, self.palette),
-                _ => blend_matrix(js, ws, self.palette),
-            };
-            let Some(m) = m else {
+            let Some(m) = lbs_matrix(js, ws, self.palette) else {
                 *p_out = rest;
                 if N {
                     if let (Some(o), Some(n)) = (out_n.get_mut(i), self.normals.get(v)) {
@@ -257,6 +276,7 @@ impl<'a> Kernel<'a> {
         }
     }
 
+    #[inline(always)]
     fn mixed_loop<const N: bool>(&self, start: usize, out_p: &mut [Vec3], out_n: &mut [Vec3], blend: Option<&[f32]>) {
         for (i, p_out) in out_p.iter_mut().enumerate() {
             let v = start + i;
@@ -275,7 +295,7 @@ impl<'a> Kernel<'a> {
                 let b = bw.get(v).copied().unwrap_or(0.0);
                 let b = if b.is_nan() { 0.0 } else { b.clamp(0.0, 1.0) };
                 if b < 1.0 {
-                    let (lp, ln) = match blend_matrix(js, ws, self.palette) {
+                    let (lp, ln) = match lbs_matrix(js, ws, self.palette) {
                         Some(m) => {
                             let q = Vec4::from((rest, 1.0));
                             let lp = Vec3A::from_vec4(m[0] * q.x + m[1] * q.y + m[2] * q.z + m[3]);
@@ -339,6 +359,40 @@ impl<'a> Kernel<'a> {
 }
 
 /// `Σ wᵢ Mᵢ` over the valid influences as four columns; `None` when the weights sum to 0.
+///
+/// Rows of exactly four influences take a branch-free, unrolled path that sums in pairs
+/// (`(m₀w₀ + m₁w₁) + (m₂w₂ + m₃w₃)`), halving the dependency chain; other rows sum in order.
+#[inline(always)]
+fn lbs_matrix(js: &[u32], ws: &[f32], palette: &[Mat4]) -> Option<[Vec4; 4]> {
+    match (<&[u32; 4]>::try_from(js), <&[f32; 4]>::try_from(ws)) {
+        (Ok(j4), Ok(w4)) => blend4(j4, w4, palette),
+        _ => blend_matrix(js, ws, palette),
+    }
+}
+
+/// The four-influence fast path of [`lbs_matrix`]; invalid influences become `0 · ZERO`.
+#[inline(always)]
+fn blend4(js: &[u32; 4], ws: &[f32; 4], palette: &[Mat4]) -> Option<[Vec4; 4]> {
+    const ZERO: Mat4 = Mat4::ZERO;
+    let pick = |k: usize| match palette.get(js[k] as usize) {
+        Some(m) if ws[k].is_finite() => (m, ws[k]),
+        _ => (&ZERO, 0.0),
+    };
+    let ((m0, w0), (m1, w1), (m2, w2), (m3, w3)) = (pick(0), pick(1), pick(2), pick(3));
+    let (a, b, c, d) = (m0.as_ref(), m1.as_ref(), m2.as_ref(), m3.as_ref());
+    // Plain per-element arithmetic so the vectorizer can use the widest lanes available.
+    let mut r = [0f32; 16];
+    for (e, r) in r.iter_mut().enumerate() {
+        *r = (a[e] * w0 + b[e] * w1) + (c[e] * w2 + d[e] * w3);
+    }
+    let sum = (w0 + w1) + (w2 + w3);
+    (sum != 0.0).then(|| {
+        let m = Mat4::from_cols_array(&r);
+        [m.x_axis, m.y_axis, m.z_axis, m.w_axis]
+    })
+}
+
+/// General path of [`lbs_matrix`]: any number of influences, summed in order.
 #[inline(always)]
 fn blend_matrix(js: &[u32], ws: &[f32], palette: &[Mat4]) -> Option<[Vec4; 4]> {
     let mut c = [Vec4::ZERO; 4];

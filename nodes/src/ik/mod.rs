@@ -1,7 +1,65 @@
-//! Inverse kinematics as pure math: two-bone, rotate-plane, CCD/FABRIK and spline solvers.
+//! Inverse kinematics: pure solvers (two-bone, rotate-plane, CCD/FABRIK, spline) and the
+//! `ikRP`, `ikSC`, `ikSpline` and `curveFromPoints` node plugins that wrap them.
 //!
-//! These functions know nothing about the graph; the ikSC / ikRP / ikSpline node
-//! plugins wrap them. Everything is `f64` glam (`DVec3`, `DQuat`, `DMat4`).
+//! # The node pattern: rest data in, rotations out (no plug cycle)
+//!
+//! In Maya an ikHandle writes joint rotations behind the graph's back. Here an IK node
+//! is an ordinary node: its **inputs** are the chain's rest data (copied, not connected
+//! from the joints' own `rotate`), the root's parent world matrix and the goal; its
+//! **outputs** are the rotations, which are connected *into* the joints. Nothing flows
+//! from a solved joint back into the solver, so there is no plug cycle and lazy and
+//! compiled evaluation agree bit for bit.
+//!
+//! Attributes shared by `ikRP`, `ikSC` and `ikSpline` (multis are per joint, indexed
+//! from the start joint; the number of joints is the number of `jointTranslate`
+//! elements, and too few is a compute error):
+//!
+//! - inputs: `startParentMatrix` (connect the start joint's `parentMatrix`),
+//!   `jointTranslate[i]`, `jointOrient[i]` (deg), `jointRotateAxis[i]` (deg),
+//!   `jointRotateOrder[i]` (Maya index 0..5), `preferredAngle[i]` (deg, the rest pose
+//!   every solve starts from), `fkRotate[i]` (deg) and `ikBlend` (0 = FK exactly,
+//!   1 = IK; quaternion slerp between).
+//! - outputs: `outRotate[i]` (deg, the joint's rotate order, the Euler solution closest
+//!   to `preferredAngle` blended towards `fkRotate`, so it is continuous), `outTranslate[i]`
+//!   (rest translate times the parent bone's stretch; the spline's root on the curve),
+//!   `outStretch[i]` (bone stretch factor), `endEffector` (world position of the last
+//!   joint in the output pose), `status` (0 reached, 1 unreachable, 2 not converged,
+//!   3 invalid), `statusMessage` and `error` (distance to the goal, -1 when invalid).
+//! - `ikRP`/`ikSC`: `goalMatrix` (translation = goal; connect an IK control's
+//!   `worldMatrix`), `stretch`, `maxStretch` (0 = no cap), `soft`, `tolerance`,
+//!   `maxIterations`; `ikRP` adds `poleVector` (world vector from the start joint) and
+//!   `twist` (deg), `ikSC` adds `solver` (fabrik/ccd). `ikSpline` adds `curve`,
+//!   `offset` (0..1), `roll`, `twist`, `stretch`, `maxStretch`, `rootOnCurve`.
+//!
+//! Non-finite values can only arrive through connections (setting NaN is refused): the
+//! node then outputs the rest pose (`preferredAngle`, rest translates, stretch 1) with
+//! status 3 and a message naming the input, never NaN. Degenerate geometry (zero-length
+//! bones, goal at the root, goal out of reach, pole collinear) follows the solvers'
+//! documented fallbacks below.
+//!
+//! Wiring a leg (`hip` → `knee` → `ankle` joints, an `ankle_ctrl` transform and a pole):
+//!
+//! ```text
+//! add ikRP legIk
+//! set legIk.jointTranslate[0..3]  = hip/knee/ankle rest translate   (also jointOrient, rotate orders)
+//! connect hip.parentMatrix        -> legIk.startParentMatrix
+//! connect ankle_ctrl.worldMatrix  -> legIk.goalMatrix
+//! connect pole_offset.output3D    -> legIk.poleVector     (pole position - hip world position)
+//! connect legIk.outRotate[0]      -> hip.rotate
+//! connect legIk.outRotate[1]      -> knee.rotate
+//! connect legIk.outRotate[2]      -> ankle.rotate
+//! connect legIk.outTranslate[1|2] -> knee.translate, ankle.translate   (only for stretch)
+//! ```
+//!
+//! `hip.parentMatrix` does not depend on `hip.rotate`, so this is a node-level loop
+//! at most, never a plug cycle. For FK/IK switching connect the FK controls' rotations
+//! to `fkRotate[i]` and animate `ikBlend`; [`snap`] computes the values that make the
+//! switch seamless. A spline is driven by controls through `curveFromPoints`
+//! (`ctrl.worldMatrix -> curve.pointMatrix[i]`, `curve.outCurve -> spineIk.curve`).
+//!
+//! # The solvers
+//!
+//! The solver functions know nothing about the graph; the node plugins wrap them. Everything is `f64` glam (`DVec3`, `DQuat`, `DMat4`).
 //!
 //! # Contract
 //!
@@ -42,24 +100,45 @@
 //! Modules: [`chain`] (description, FK, blend, shared plumbing), [`soft`] (stretch
 //! and soft IK), [`two_bone`] (ikRP: analytic two-bone and longer rotate-plane
 //! chains), [`iterative`] (ikSC: FABRIK and CCD), [`curve`] (B-spline evaluation and arc
-//! length) and [`spline`] (ikSpline).
+//! length) and [`spline`] (ikSpline); node plugins in [`nodes_rp`], [`nodes_sc`],
+//! [`nodes_spline`] and [`curve_node`] (shared node plumbing in `node_chain`), and the
+//! FK/IK snapping API in [`snap`].
 
 pub mod chain;
 pub mod curve;
+pub mod curve_node;
 pub mod iterative;
+mod node_chain;
+pub mod nodes_rp;
+pub mod nodes_sc;
+pub mod nodes_spline;
+pub mod snap;
 pub mod soft;
 pub mod spline;
 pub mod two_bone;
 
+pub use node_chain::{status_code, STATUS_INVALID, STATUS_NOT_CONVERGED, STATUS_REACHED, STATUS_UNREACHABLE};
+
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
+mod tests_nodes;
+#[cfg(test)]
+mod tests_nodes_robust;
+#[cfg(test)]
+mod tests_nodes_spline;
+#[cfg(test)]
 mod tests_props;
+#[cfg(test)]
+mod tests_snap;
 #[cfg(test)]
 mod tests_spline;
 
-/// Registers this family's node types.
+/// Registers this family's node types: `ikRP`, `ikSC`, `ikSpline` and `curveFromPoints`.
 pub fn register(registry: &mut sinew_core::Registry) -> Result<(), sinew_core::SpecError> {
-    let _ = registry;
+    registry.register(nodes_rp::IkRp::new()?)?;
+    registry.register(nodes_sc::IkSc::new()?)?;
+    registry.register(nodes_spline::IkSpline::new()?)?;
+    registry.register(curve_node::CurveFromPoints::new()?)?;
     Ok(())
 }

@@ -77,8 +77,57 @@ pub fn chordal_axis(part: &Part, params: &AxisParams) -> Axis2 {
         }
     }
     axis.branches = branches;
+    let deg = axis.degrees();
+    for b in 0..axis.branches.len() {
+        let br = &axis.branches[b];
+        if br.len() < 3 {
+            continue;
+        }
+        let (s, e) = (br[0] as usize, br[br.len() - 1] as usize);
+        if deg[e] == 1 {
+            trim_tip(&mut axis, b);
+        }
+        if deg[s] == 1 && s != e {
+            axis.branches[b].reverse();
+            trim_tip(&mut axis, b);
+            axis.branches[b].reverse();
+        }
+    }
     smooth(&mut axis, params.smooth_iterations);
     axis
+}
+
+/// Straightens the end of branch `b` (whose last point is a tip): from the first
+/// point `P` whose inscribed disk contains the tip, the branch continues straight
+/// along its incoming direction for the tip's distance. Round caps and blobs
+/// otherwise end in a fork remnant that veers to the side.
+fn trim_tip(axis: &mut Axis2, b: usize) {
+    let br = axis.branches[b].clone();
+    let k = br.len() - 1;
+    let tip = axis.points[br[k] as usize];
+    let Some(i) = (1..k.saturating_sub(1)).find(|&i| {
+        let p = axis.points[br[i] as usize];
+        p.distance(tip) <= 1.05 * axis.radius[br[i] as usize]
+    }) else {
+        return;
+    };
+    let p = axis.points[br[i] as usize];
+    let r = axis.radius[br[i] as usize];
+    // Incoming direction over about two radii of arc length.
+    let mut back = i;
+    let mut arc = 0.0;
+    while back > 0 && arc < 2.0 * r {
+        arc += axis.points[br[back] as usize].distance(axis.points[br[back - 1] as usize]);
+        back -= 1;
+    }
+    let Some(dir) = (p - axis.points[br[back] as usize]).try_normalize() else {
+        return;
+    };
+    axis.points.push(p + dir * p.distance(tip));
+    axis.radius.push(0.0);
+    let mut nb = br[..=i].to_vec();
+    nb.push((axis.points.len() - 1) as u32);
+    axis.branches[b] = nb;
 }
 
 /// The unpruned chordal axis.
@@ -94,7 +143,8 @@ fn raw_axis(part: &Part) -> Axis2 {
             edges.push([base + k, base + (k + 1) % ring.len()]);
         }
     }
-    let Ok(cdt) = ConstrainedDelaunayTriangulation::<Point2<f64>>::try_bulk_load_cdt(verts, edges, |_| {})
+    let Ok(cdt) =
+        ConstrainedDelaunayTriangulation::<Point2<f64>>::try_bulk_load_cdt(verts, edges, |_| {})
     else {
         return Axis2::default();
     };
@@ -132,7 +182,8 @@ fn raw_axis(part: &Part) -> Axis2 {
             let key = e.fix().as_undirected().index();
             let (a, b) = (pos(e.from().position()), pos(e.to().position()));
             if mid_of_edge[key] == NONE {
-                mid_of_edge[key] = add_point(&mut axis, &mut adj, (a + b) * 0.5, 0.5 * a.distance(b));
+                mid_of_edge[key] =
+                    add_point(&mut axis, &mut adj, (a + b) * 0.5, 0.5 * a.distance(b));
             }
             inner_mids.push(mid_of_edge[key]);
             inner_edge = Some(e);
@@ -141,7 +192,12 @@ fn raw_axis(part: &Part) -> Axis2 {
         let centroid = (a + b + c) / 3.0;
         match inner_mids.len() {
             0 => {
-                add_point(&mut axis, &mut adj, centroid, part.distance_to_outline(centroid));
+                add_point(
+                    &mut axis,
+                    &mut adj,
+                    centroid,
+                    part.distance_to_outline(centroid),
+                );
             }
             1 => {
                 let tip = inner_edge
@@ -153,7 +209,14 @@ fn raw_axis(part: &Part) -> Axis2 {
             }
             2 => link(&mut adj, inner_mids[0], inner_mids[1]),
             _ => {
-                let r = part.distance_to_outline(centroid);
+                // Local width: the inscribed radius or the widest adjacent chord,
+                // whichever is larger (a sliver junction near the outline has a tiny
+                // inscribed radius but sits in a wide region).
+                let chord = inner_mids
+                    .iter()
+                    .map(|&m| axis.radius[m as usize])
+                    .fold(0.0, f64::max);
+                let r = part.distance_to_outline(centroid).max(chord);
                 let j = add_point(&mut axis, &mut adj, centroid, r);
                 for &m in &inner_mids {
                     link(&mut adj, j, m);
@@ -360,10 +423,18 @@ mod tests {
             DVec2::new(w, h),
             DVec2::new(0.0, h),
         ];
-        Part { outer, holes: Vec::new(), area: w * h }
+        Part {
+            outer,
+            holes: Vec::new(),
+            area: w * h,
+        }
     }
 
-    const P: AxisParams = AxisParams { prune_factor: 1.6, merge_factor: 1.5, smooth_iterations: 2 };
+    const P: AxisParams = AxisParams {
+        prune_factor: 1.6,
+        merge_factor: 1.5,
+        smooth_iterations: 2,
+    };
 
     #[test]
     fn long_rectangle_gives_one_branch() {
@@ -375,7 +446,11 @@ mod tests {
         for i in (0..=20).rev() {
             outer.push(DVec2::new(i as f64, 2.0));
         }
-        let part = Part { outer, holes: Vec::new(), area: 40.0 };
+        let part = Part {
+            outer,
+            holes: Vec::new(),
+            area: 40.0,
+        };
         let axis = chordal_axis(&part, &P);
         assert_eq!(axis.branches.len(), 1, "{axis:?}");
         assert!(axis.branch_length(0) > 17.0);

@@ -28,8 +28,12 @@ impl Axis3 {
         let base = self.points.len() as u32;
         self.points.extend(other.points);
         self.radius.extend(other.radius);
-        self.branches
-            .extend(other.branches.into_iter().map(|b| b.into_iter().map(|i| i + base).collect()));
+        self.branches.extend(
+            other
+                .branches
+                .into_iter()
+                .map(|b| b.into_iter().map(|i| i + base).collect()),
+        );
     }
 
     /// Length of branch `b`.

@@ -50,12 +50,20 @@ impl Skeleton {
 
     /// Indices of joints without a parent.
     pub fn roots(&self) -> impl Iterator<Item = usize> + '_ {
-        self.parents.iter().enumerate().filter(|(_, p)| p.is_none()).map(|(j, _)| j)
+        self.parents
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.is_none())
+            .map(|(j, _)| j)
     }
 
     /// Children of joint `j`.
     pub fn children(&self, j: usize) -> impl Iterator<Item = usize> + '_ {
-        self.parents.iter().enumerate().filter(move |(_, p)| **p == Some(j)).map(|(c, _)| c)
+        self.parents
+            .iter()
+            .enumerate()
+            .filter(move |(_, p)| **p == Some(j))
+            .map(|(c, _)| c)
     }
 
     /// Appends a joint (identity orientation until oriented).
@@ -144,7 +152,9 @@ pub enum SkeletonizeError {
         extent: f64,
     },
     /// The silhouette has no interior to draw an axis in.
-    #[error("the silhouette has no interior (it covers fewer than a few pixels); raise the resolution or check the mesh")]
+    #[error(
+        "the silhouette has no interior (it covers fewer than a few pixels); raise the resolution or check the mesh"
+    )]
     NoInterior,
     /// The skeleton has no joints (weights need at least one).
     #[error("the skeleton has no joints")]
@@ -187,7 +197,8 @@ pub fn skeletonize_detailed(
         });
     }
     mesh.validate().map_err(SkeletonizeError::InvalidMesh)?;
-    let frame = Frame::principal(mesh, params.view_axis).ok_or(SkeletonizeError::Degenerate { extent: 0.0 })?;
+    let frame = Frame::principal(mesh, params.view_axis)
+        .ok_or(SkeletonizeError::Degenerate { extent: 0.0 })?;
     let (lo, hi) = mesh.positions.iter().fold(
         (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
         |(lo, hi), p| {
@@ -197,12 +208,21 @@ pub fn skeletonize_detailed(
     );
     let ext = hi - lo;
     if !(ext.min_element() > 1e-9 * ext.max_element().max(1e-300)) || ext.max_element() <= 0.0 {
-        return Err(SkeletonizeError::Degenerate { extent: ext.max_element().max(0.0) });
+        return Err(SkeletonizeError::Degenerate {
+            extent: ext.max_element().max(0.0),
+        });
     }
-    let raster = Raster::draw(mesh, &frame, params.resolution.max(8), params.close_radius)
-        .ok_or(SkeletonizeError::Degenerate { extent: ext.max_element() })?;
+    let raster = Raster::draw(mesh, &frame, params.resolution.max(8), params.close_radius).ok_or(
+        SkeletonizeError::Degenerate {
+            extent: ext.max_element(),
+        },
+    )?;
     let px = raster.pixel;
-    let mut all = parts(&raster, params.simplify_tolerance.max(0.0) * px, params.min_loop_area.max(0.0) * px * px);
+    let mut all = parts(
+        &raster,
+        params.simplify_tolerance.max(0.0) * px,
+        params.min_loop_area.max(0.0) * px * px,
+    );
     if all.is_empty() {
         return Err(SkeletonizeError::NoInterior);
     }
@@ -232,5 +252,10 @@ pub fn skeletonize_detailed(
     if skeleton.is_empty() {
         return Err(SkeletonizeError::NoInterior);
     }
-    Ok(SkeletonDetails { skeleton, frame, parts: all, axis })
+    Ok(SkeletonDetails {
+        skeleton,
+        frame,
+        parts: all,
+        axis,
+    })
 }

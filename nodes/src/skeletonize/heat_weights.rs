@@ -106,17 +106,32 @@ pub fn bone_heat_weights_with_report(
     let bones: Vec<Bone> = (0..skeleton.len())
         .filter_map(|j| {
             let p = (*skeleton.parents.get(j)?)?;
-            Some(Bone { a: *skeleton.positions.get(p)?, b: *skeleton.positions.get(j)?, joint: p as u32 })
+            Some(Bone {
+                a: *skeleton.positions.get(p)?,
+                b: *skeleton.positions.get(j)?,
+                joint: p as u32,
+            })
         })
         .filter(|b| b.a.is_finite() && b.b.is_finite())
         .collect();
     if bones.is_empty() {
         let w = Weights::from_lists((0..n).map(|_| [(0u32, 1.0f32)]));
-        return Ok((w, WeightReport { fallback_vertices: n, solved: false, bones: 0 }));
+        return Ok((
+            w,
+            WeightReport {
+                fallback_vertices: n,
+                solved: false,
+                bones: 0,
+            },
+        ));
     }
     let max_inf = params.max_influences.max(1);
     let pos: Vec<DVec3> = mesh.positions.iter().map(|p| p.as_dvec3()).collect();
-    let (lo, hi) = pos.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(l, h), p| (l.min(*p), h.max(*p)));
+    let (lo, hi) = pos
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(l, h), p| {
+            (l.min(*p), h.max(*p))
+        });
     let extent = (hi - lo).length().max(1e-12);
     // Weld coincident vertices.
     let cell = extent * 1e-7;
@@ -143,11 +158,18 @@ pub fn bone_heat_weights_with_report(
         }
         let (pa, pb, pc) = (wpos[a as usize], wpos[b as usize], wpos[c as usize]);
         let cr = (pb - pa).cross(pc - pa).length();
-        let longest = (pb - pa).length_squared().max((pc - pb).length_squared()).max((pa - pc).length_squared());
+        let longest = (pb - pa)
+            .length_squared()
+            .max((pc - pb).length_squared())
+            .max((pa - pc).length_squared());
         if !(cr > 1e-10 * longest) {
             continue;
         }
-        for (i, j, k, pi, pj, pk) in [(a, b, c, pa, pb, pc), (b, c, a, pb, pc, pa), (c, a, b, pc, pa, pb)] {
+        for (i, j, k, pi, pj, pk) in [
+            (a, b, c, pa, pb, pc),
+            (b, c, a, pb, pc, pa),
+            (c, a, b, pc, pa, pb),
+        ] {
             // Weight of edge (j, k) from the angle at i.
             let w = match params.laplacian {
                 Laplacian::Cotangent => (0.5 * (pj - pi).dot(pk - pi) / cr).clamp(0.0, 1e8),
@@ -161,8 +183,13 @@ pub fn bone_heat_weights_with_report(
         }
     }
     // Nearest bones of each welded vertex.
-    let scale = bones.iter().map(|b| b.a.distance(b.b)).fold(0.0, f64::max).max(extent * 1e-3);
-    let nearest: Vec<(f64, Vec<u32>)> = wpos.par_iter().map(|p| nearest_bones(*p, &bones)).collect();
+    let scale = bones
+        .iter()
+        .map(|b| b.a.distance(b.b))
+        .fold(0.0, f64::max)
+        .max(extent * 1e-3);
+    let nearest: Vec<(f64, Vec<u32>)> =
+        wpos.par_iter().map(|p| nearest_bones(*p, &bones)).collect();
     let mut sys = vec![u32::MAX; m];
     let mut count = 0usize;
     for v in 0..m {
@@ -171,8 +198,28 @@ pub fn bone_heat_weights_with_report(
             count += 1;
         }
     }
+    // The system is linear and bones with the same parent joint are summed, so one
+    // right-hand side per influencing joint suffices.
+    let mut joints: Vec<u32> = bones.iter().map(|b| b.joint).collect();
+    joints.sort_unstable();
+    joints.dedup();
+    let column: Vec<usize> = bones
+        .iter()
+        .map(|b| joints.binary_search(&b.joint).unwrap_or(0))
+        .collect();
     let solution = if count > 0 {
-        solve(&off, &diag, &area, &sys, count, &nearest, bones.len(), params.heat, scale * 1e-3)
+        solve(
+            &off,
+            &diag,
+            &area,
+            &sys,
+            count,
+            &nearest,
+            &column,
+            joints.len(),
+            params.heat,
+            scale * 1e-3,
+        )
     } else {
         None
     };
@@ -194,8 +241,8 @@ pub fn bone_heat_weights_with_report(
             let mut fell_back = false;
             match (&solution, s) {
                 (Some(sol), s) if s != u32::MAX => {
-                    for (b, bone) in bones.iter().enumerate() {
-                        add(bone.joint, sol[(s as usize, b)]);
+                    for (c, &joint) in joints.iter().enumerate() {
+                        add(joint, sol[(s as usize, c)]);
                     }
                 }
                 _ => {
@@ -206,25 +253,44 @@ pub fn bone_heat_weights_with_report(
                     }
                 }
             }
-            let nearest_joint = nearest[wv].1.first().map_or(bones[0].joint, |&b| bones[b as usize].joint);
-            (finish(acc, max_inf, params.min_weight, nearest_joint), fell_back)
+            let nearest_joint = nearest[wv]
+                .1
+                .first()
+                .map_or(bones[0].joint, |&b| bones[b as usize].joint);
+            (
+                finish(acc, max_inf, params.min_weight, nearest_joint),
+                fell_back,
+            )
         })
         .collect();
     let fallback_vertices = lists.iter().filter(|l| l.1).count();
     let weights = Weights::from_lists(lists.into_iter().map(|l| l.0));
-    Ok((weights, WeightReport { fallback_vertices, solved, bones: bones.len() }))
+    Ok((
+        weights,
+        WeightReport {
+            fallback_vertices,
+            solved,
+            bones: bones.len(),
+        },
+    ))
 }
 
 /// Distance to the nearest bone and the bones within a hair of it.
 fn nearest_bones(p: DVec3, bones: &[Bone]) -> (f64, Vec<u32>) {
-    let d: Vec<f64> = bones.iter().map(|b| segment_distance(p, b.a, b.b)).collect();
+    let d: Vec<f64> = bones
+        .iter()
+        .map(|b| segment_distance(p, b.a, b.b))
+        .collect();
     let dmin = d.iter().copied().fold(f64::INFINITY, f64::min);
     let tol = dmin * 1e-3 + 1e-12;
-    let ids = (0..bones.len() as u32).filter(|&b| d[b as usize] <= dmin + tol).collect();
+    let ids = (0..bones.len() as u32)
+        .filter(|&b| d[b as usize] <= dmin + tol)
+        .collect();
     (dmin, ids)
 }
 
-/// Factorises `C + A H` once and solves for every bone. `None` on any failure.
+/// Factorises `C + A H` once and solves for every column (bone `b` feeds column
+/// `column[b]`). `None` on any failure.
 #[allow(clippy::too_many_arguments)]
 fn solve(
     off: &[(u32, u32, f64)],
@@ -233,7 +299,8 @@ fn solve(
     sys: &[u32],
     count: usize,
     nearest: &[(f64, Vec<u32>)],
-    nbones: usize,
+    column: &[usize],
+    ncols: usize,
     heat: f64,
     min_dist: f64,
 ) -> Option<Mat<f64>> {
@@ -244,7 +311,7 @@ fn solve(
             trips.push(Triplet::new(r as usize, c as usize, w));
         }
     }
-    let mut rhs = Mat::<f64>::zeros(count, nbones);
+    let mut rhs = Mat::<f64>::zeros(count, ncols);
     for v in 0..sys.len() {
         let s = sys[v];
         if s == u32::MAX {
@@ -256,7 +323,7 @@ fn solve(
         let ah = area[v] * h;
         trips.push(Triplet::new(s as usize, s as usize, diag[v] + ah));
         for &b in ids {
-            rhs[(s as usize, b as usize)] = ah / k;
+            rhs[(s as usize, column[b as usize])] += ah / k;
         }
     }
     if trips.iter().any(|t| !t.val.is_finite()) {
@@ -265,13 +332,18 @@ fn solve(
     let a = SparseColMat::<usize, f64>::try_new_from_triplets(count, count, &trips).ok()?;
     let llt = a.sp_cholesky(Side::Lower).ok()?;
     llt.solve_in_place(rhs.as_mut());
-    let finite = (0..nbones).all(|b| (0..count).all(|i| rhs[(i, b)].is_finite()));
+    let finite = (0..ncols).all(|b| (0..count).all(|i| rhs[(i, b)].is_finite()));
     finite.then_some(rhs)
 }
 
 /// Keeps the `max_inf` largest influences above `min_weight` and normalises; a vertex
 /// left with nothing goes fully to `nearest_joint`.
-fn finish(mut acc: Vec<(u32, f64)>, max_inf: usize, min_weight: f32, nearest_joint: u32) -> Vec<(u32, f32)> {
+fn finish(
+    mut acc: Vec<(u32, f64)>,
+    max_inf: usize,
+    min_weight: f32,
+    nearest_joint: u32,
+) -> Vec<(u32, f32)> {
     acc.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
     acc.truncate(max_inf);
     let total: f64 = acc.iter().map(|e| e.1).sum();
@@ -293,6 +365,10 @@ fn finish(mut acc: Vec<(u32, f64)>, max_inf: usize, min_weight: f32, nearest_joi
 fn segment_distance(p: DVec3, a: DVec3, b: DVec3) -> f64 {
     let ab = b - a;
     let l2 = ab.length_squared();
-    let t = if l2 > 0.0 { ((p - a).dot(ab) / l2).clamp(0.0, 1.0) } else { 0.0 };
+    let t = if l2 > 0.0 {
+        ((p - a).dot(ab) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     (a + ab * t).distance(p)
 }

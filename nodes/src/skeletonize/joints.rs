@@ -79,7 +79,11 @@ pub fn build(axis: &Axis3, frame: &Frame, params: &JointParams, keep_all: bool) 
     let mut sk = Skeleton::default();
     let mut labels = 0usize;
     for (c, (bs, _)) in comps.iter().enumerate() {
-        let hint = if hinted == Some(c) { params.root_hint } else { None };
+        let hint = if hinted == Some(c) {
+            params.root_hint
+        } else {
+            None
+        };
         let (root, bs) = choose_root(&mut axis, bs, frame, hint);
         let tree = grow_tree(&axis, &bs, root);
         emit(&mut sk, &tree, params, &mut labels);
@@ -117,7 +121,12 @@ fn components(axis: &Axis3) -> Vec<Vec<usize>> {
 
 /// Picks the root point of a component; splits a branch when the hint lands inside it.
 /// Returns the root point and the component's (possibly extended) branch list.
-fn choose_root(axis: &mut Axis3, bs: &[usize], frame: &Frame, hint: Option<DVec3>) -> (u32, Vec<usize>) {
+fn choose_root(
+    axis: &mut Axis3,
+    bs: &[usize],
+    frame: &Frame,
+    hint: Option<DVec3>,
+) -> (u32, Vec<usize>) {
     let mut bs = bs.to_vec();
     if let Some(h) = hint {
         let mut best = (f64::INFINITY, 0usize, 0usize);
@@ -153,12 +162,17 @@ fn choose_root(axis: &mut Axis3, bs: &[usize], frame: &Frame, hint: Option<DVec3
         keys.iter()
             .copied()
             .filter(|k| deg[k] == maxd)
-            .min_by(|&a, &b| p(a).distance_squared(frame.origin).total_cmp(&p(b).distance_squared(frame.origin)))
+            .min_by(|&a, &b| {
+                p(a).distance_squared(frame.origin)
+                    .total_cmp(&p(b).distance_squared(frame.origin))
+            })
     } else {
         // A chain (or loop): the end lowest in world Y, then X, then Z.
         keys.iter().copied().min_by(|&a, &b| {
             let (pa, pb) = (p(a), p(b));
-            (pa.y, pa.x, pa.z).partial_cmp(&(pb.y, pb.x, pb.z)).unwrap_or(std::cmp::Ordering::Equal)
+            (pa.y, pa.x, pa.z)
+                .partial_cmp(&(pb.y, pb.x, pb.z))
+                .unwrap_or(std::cmp::Ordering::Equal)
         })
     };
     (root.unwrap_or(axis.branches[bs[0]][0]), bs)
@@ -183,7 +197,8 @@ fn grow_tree(axis: &Axis3, bs: &[usize], root: u32) -> Tree {
         mean_radius: Vec::new(),
     };
     let push = |tree: &mut Tree, ids: &[u32], via: Option<usize>, junction: bool| {
-        tree.branches.push(ids.iter().map(|&i| axis.points[i as usize]).collect());
+        tree.branches
+            .push(ids.iter().map(|&i| axis.points[i as usize]).collect());
         tree.parent_branch.push(via);
         tree.ends_at_junction.push(junction);
         let r: f64 = ids.iter().map(|&i| axis.radius[i as usize]).sum();
@@ -210,13 +225,23 @@ fn grow_tree(axis: &Axis3, bs: &[usize], root: u32) -> Tree {
             }
             let end = br[br.len() - 1];
             if let Some(&end_owner) = owner.get(&end) {
-                // Closes a cycle: cut in the middle; each half hangs from its own end.
+                // Closes a cycle: cut in the middle; each half hangs from its own end
+                // unless it is a stub (shorter than twice the width where it starts).
                 if br.len() >= 4 {
                     let m = br.len() / 2;
-                    push(&mut tree, &br[..m], via, false);
                     let mut back = br[m..].to_vec();
                     back.reverse();
-                    push(&mut tree, &back, end_owner, false);
+                    for (half, from) in [(&br[..m], via), (&back[..], end_owner)] {
+                        let len: f64 = half
+                            .windows(2)
+                            .map(|w| {
+                                axis.points[w[0] as usize].distance(axis.points[w[1] as usize])
+                            })
+                            .sum();
+                        if len >= 2.0 * axis.radius[half[0] as usize] {
+                            push(&mut tree, half, from, false);
+                        }
+                    }
                 }
             } else {
                 let junction = at.get(&end).map_or(0, |l| l.len()) >= 2;
@@ -263,7 +288,10 @@ fn joint_points(pts: &[DVec3], mean_radius: f64, params: &JointParams) -> Vec<DV
     loop {
         let mut weakest: Option<(usize, f64)> = None;
         for k in 1..sel.len().saturating_sub(1) {
-            let (a, b) = ((sel[k] - sel[k - 1]).normalize_or_zero(), (sel[k + 1] - sel[k]).normalize_or_zero());
+            let (a, b) = (
+                (sel[k] - sel[k - 1]).normalize_or_zero(),
+                (sel[k + 1] - sel[k]).normalize_or_zero(),
+            );
             let turn = a.dot(b).clamp(-1.0, 1.0).acos();
             if turn < params.angle_limit && weakest.map_or(true, |(_, t)| turn < t) {
                 weakest = Some((k, turn));
@@ -293,7 +321,11 @@ fn resample(pts: &[DVec3], bones: usize) -> Vec<DVec3> {
             seg += 1;
         }
         let span = cum[seg + 1] - cum[seg];
-        let t = if span > 0.0 { ((s - cum[seg]) / span).clamp(0.0, 1.0) } else { 0.0 };
+        let t = if span > 0.0 {
+            ((s - cum[seg]) / span).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
         out.push(pts[seg].lerp(pts[seg + 1], t));
     }
     out
@@ -302,7 +334,11 @@ fn resample(pts: &[DVec3], bones: usize) -> Vec<DVec3> {
 fn point_segment(p: DVec3, a: DVec3, b: DVec3) -> f64 {
     let ab = b - a;
     let l2 = ab.length_squared();
-    let t = if l2 > 0.0 { ((p - a).dot(ab) / l2).clamp(0.0, 1.0) } else { 0.0 };
+    let t = if l2 > 0.0 {
+        ((p - a).dot(ab) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     (a + ab * t).distance(p)
 }
 
@@ -310,7 +346,11 @@ fn point_segment(p: DVec3, a: DVec3, b: DVec3) -> f64 {
 /// `labels` numbers branches across trees.
 fn emit(sk: &mut Skeleton, tree: &Tree, params: &JointParams, labels: &mut usize) {
     let root_joint = sk.positions.len();
-    let name = if root_joint == 0 { "root".to_string() } else { format!("root{}", root_joint) };
+    let name = if root_joint == 0 {
+        "root".to_string()
+    } else {
+        format!("root{}", root_joint)
+    };
     sk.push(name, None, tree.root);
     let mut end_joint = vec![root_joint; tree.branches.len()];
     for (t, pts) in tree.branches.iter().enumerate() {

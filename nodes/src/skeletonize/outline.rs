@@ -49,7 +49,11 @@ impl Part {
 pub fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
     let ab = b - a;
     let l2 = ab.length_squared();
-    let t = if l2 > 0.0 { ((p - a).dot(ab) / l2).clamp(0.0, 1.0) } else { 0.0 };
+    let t = if l2 > 0.0 {
+        ((p - a).dot(ab) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     (a + ab * t).distance(p)
 }
 
@@ -72,7 +76,10 @@ fn ring_crossings(ring: &[DVec2], p: DVec2) -> bool {
 /// Signed area (positive when counter-clockwise).
 pub fn signed_area(ring: &[DVec2]) -> f64 {
     let n = ring.len();
-    (0..n).map(|k| ring[k].perp_dot(ring[(k + 1) % n])).sum::<f64>() * 0.5
+    (0..n)
+        .map(|k| ring[k].perp_dot(ring[(k + 1) % n]))
+        .sum::<f64>()
+        * 0.5
 }
 
 /// Traces the mask of `raster` into closed loops in plane coordinates.
@@ -96,7 +103,10 @@ pub fn trace(raster: &Raster) -> Vec<Vec<DVec2>> {
             // Corners counter-clockwise (y up) and the edges between consecutive ones.
             let c = [at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)];
             let e = [hid(i, j), vid(i + 1, j), hid(i, j + 1), vid(i, j)];
-            let case = c.iter().enumerate().fold(0, |m, (k, &b)| m | ((b as u8) << k));
+            let case = c
+                .iter()
+                .enumerate()
+                .fold(0, |m, (k, &b)| m | ((b as u8) << k));
             if case == 0 || case == 15 {
                 continue;
             }
@@ -131,9 +141,17 @@ pub fn trace(raster: &Raster) -> Vec<Vec<DVec2>> {
         }
     }
     let point = |id: usize| -> DVec2 {
-        let (g, horizontal) = if id < w * h { (id, true) } else { (id - w * h, false) };
+        let (g, horizontal) = if id < w * h {
+            (id, true)
+        } else {
+            (id - w * h, false)
+        };
         let (i, j) = ((g % w) as f64, (g / w) as f64);
-        let (x, y) = if horizontal { (i + 1.0, j + 0.5) } else { (i + 0.5, j + 1.0) };
+        let (x, y) = if horizontal {
+            (i + 1.0, j + 0.5)
+        } else {
+            (i + 0.5, j + 1.0)
+        };
         raster.min + DVec2::new(x, y) * raster.pixel
     };
     let mut loops = Vec::new();
@@ -166,7 +184,11 @@ pub fn simplify_ring(ring: &[DVec2], tol: f64) -> Vec<DVec2> {
     }
     // Split at the point farthest from ring[0] so both halves are open polylines.
     let far = (1..n)
-        .max_by(|&a, &b| ring[0].distance_squared(ring[a]).total_cmp(&ring[0].distance_squared(ring[b])))
+        .max_by(|&a, &b| {
+            ring[0]
+                .distance_squared(ring[a])
+                .total_cmp(&ring[0].distance_squared(ring[b]))
+        })
         .unwrap_or(n / 2);
     let mut keep = vec![false; n + 1];
     keep[0] = true;
@@ -230,7 +252,11 @@ pub fn parts(raster: &Raster, tol: f64, min_area: f64) -> Vec<Part> {
     }
     let mut parts: Vec<Part> = outers
         .iter()
-        .map(|(o, a)| Part { outer: o.clone(), holes: Vec::new(), area: *a })
+        .map(|(o, a)| Part {
+            outer: o.clone(),
+            holes: Vec::new(),
+            area: *a,
+        })
         .collect();
     for (hole, ha) in holes {
         // The smallest outer boundary containing the hole owns it.

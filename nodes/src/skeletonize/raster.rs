@@ -35,7 +35,9 @@ impl Frame {
                 // restricted to the plane by projecting the principal axes.
                 let p = DMat3::IDENTITY - outer(w, w);
                 let (vals, vecs) = sym_eigen(p * cov * p);
-                let i = (0..3).max_by(|&a, &b| vals[a].total_cmp(&vals[b])).unwrap_or(0);
+                let i = (0..3)
+                    .max_by(|&a, &b| vals[a].total_cmp(&vals[b]))
+                    .unwrap_or(0);
                 let u = (vecs.col(i) - w * vecs.col(i).dot(w))
                     .try_normalize()
                     .unwrap_or_else(|| w.any_orthonormal_vector());
@@ -189,7 +191,12 @@ impl Raster {
     /// and closes gaps up to `2 * close_radius` pixels wide.
     ///
     /// Returns `None` when the projected extent is zero or not finite.
-    pub fn draw(mesh: &Mesh, frame: &Frame, resolution: usize, close_radius: usize) -> Option<Self> {
+    pub fn draw(
+        mesh: &Mesh,
+        frame: &Frame,
+        resolution: usize,
+        close_radius: usize,
+    ) -> Option<Self> {
         let pts: Vec<(DVec2, f64)> = mesh
             .positions
             .iter()

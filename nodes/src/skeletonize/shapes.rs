@@ -19,7 +19,11 @@ pub fn capsule(a: Vec3, b: Vec3, radius: f32, around: usize) -> Mesh {
     let e2 = d.cross(e1);
     let cap = (around / 4).max(1);
     let step = TAU * radius / around as f32;
-    let body = if step > 0.0 { (len / step).round() as usize } else { 0 };
+    let body = if step > 0.0 {
+        (len / step).round() as usize
+    } else {
+        0
+    };
     // Rings as (centre, radius), pole to pole, excluding the poles.
     let mut rings: Vec<(Vec3, f32)> = Vec::new();
     for k in 1..=cap {
@@ -49,7 +53,12 @@ pub fn capsule(a: Vec3, b: Vec3, radius: f32, around: usize) -> Mesh {
     }
     for k in 0..rings.len() - 1 {
         for s in 0..around {
-            let (p, q, r, t) = (ring(k, s), ring(k, s + 1), ring(k + 1, s + 1), ring(k + 1, s));
+            let (p, q, r, t) = (
+                ring(k, s),
+                ring(k, s + 1),
+                ring(k + 1, s + 1),
+                ring(k + 1, s),
+            );
             m.triangles.push([p, q, r]);
             m.triangles.push([p, r, t]);
         }
@@ -70,7 +79,8 @@ pub fn torus(major: f32, minor: f32, around: usize, tube: usize) -> Mesh {
         let c = Vec3::new(t.cos(), t.sin(), 0.0);
         for j in 0..tube {
             let s = TAU * j as f32 / tube as f32;
-            m.positions.push(c * (major + minor * s.cos()) + Vec3::Z * minor * s.sin());
+            m.positions
+                .push(c * (major + minor * s.cos()) + Vec3::Z * minor * s.sin());
         }
     }
     let id = |i: usize, j: usize| ((i % around) * tube + j % tube) as u32;
@@ -89,7 +99,8 @@ pub fn merge(parts: &[Mesh]) -> Mesh {
     for p in parts {
         let base = m.positions.len() as u32;
         m.positions.extend_from_slice(&p.positions);
-        m.triangles.extend(p.triangles.iter().map(|t| t.map(|i| i + base)));
+        m.triangles
+            .extend(p.triangles.iter().map(|t| t.map(|i| i + base)));
     }
     m
 }
@@ -97,8 +108,18 @@ pub fn merge(parts: &[Mesh]) -> Mesh {
 /// Two capsules crossed at the origin in the XY plane, arms reaching `arm` out.
 pub fn plus(arm: f32, radius: f32, around: usize) -> Mesh {
     merge(&[
-        capsule(Vec3::new(-arm, 0.0, 0.0), Vec3::new(arm, 0.0, 0.0), radius, around),
-        capsule(Vec3::new(0.0, -arm, 0.0), Vec3::new(0.0, arm, 0.0), radius, around),
+        capsule(
+            Vec3::new(-arm, 0.0, 0.0),
+            Vec3::new(arm, 0.0, 0.0),
+            radius,
+            around,
+        ),
+        capsule(
+            Vec3::new(0.0, -arm, 0.0),
+            Vec3::new(0.0, arm, 0.0),
+            radius,
+            around,
+        ),
     ])
 }
 
@@ -107,7 +128,12 @@ pub fn star(n: usize, arm: f32, radius: f32, around: usize) -> Mesh {
     let mut parts = vec![capsule(Vec3::ZERO, Vec3::ZERO, radius * 1.6, around)];
     for k in 0..n {
         let t = TAU * k as f32 / n as f32 + 0.3;
-        parts.push(capsule(Vec3::ZERO, Vec3::new(t.cos(), t.sin(), 0.0) * arm, radius, around));
+        parts.push(capsule(
+            Vec3::ZERO,
+            Vec3::new(t.cos(), t.sin(), 0.0) * arm,
+            radius,
+            around,
+        ));
     }
     merge(&parts)
 }

@@ -117,7 +117,11 @@ fn expect_err(text: &str, line: usize, needle: &str) {
 fn malformed_inputs_give_line_numbered_errors() {
     // The tiny file's frame lines are 28, 30 and 31 (29 is blank).
     let short = TINY.replace("1 2 3 90 0 0 0 90 0 0 0 0", "1 2 3 90 0 0 0 90 0 0 0");
-    expect_err(&short, 30, "frame 1 has 11 values but the hierarchy declares 12 channels");
+    expect_err(
+        &short,
+        30,
+        "frame 1 has 11 values but the hierarchy declares 12 channels",
+    );
     let bad = TINY.replace("1 2 3 90", "1 2 x3 90");
     expect_err(&bad, 30, "value 3 is not a number: 'x3'");
     let nan = TINY.replace("1 2 3 90", "1 2 NaN 90");
@@ -128,10 +132,18 @@ fn malformed_inputs_give_line_numbered_errors() {
     assert_ne!(missing_brace, TINY);
     expect_err(&missing_brace, 24, "joint hips opened on line 2 is not closed");
     let truncated = &TINY[..TINY.find("0 0 0 0 0 0 90").unwrap()];
-    expect_err(truncated, 31, "file ends after 2 frames but 'Frames:' on line 26 declares 3");
+    expect_err(
+        truncated,
+        31,
+        "file ends after 2 frames but 'Frames:' on line 26 declares 3",
+    );
     let cut_hierarchy = &TINY[..TINY.find("End Site").unwrap()];
     assert!(parse_bvh(cut_hierarchy).unwrap_err().to_string().contains("MOTION"));
-    expect_err("HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 2 Xrotation Wrotation\n}\n", 5, "found 'Wrotation'");
+    expect_err(
+        "HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 2 Xrotation Wrotation\n}\n",
+        5,
+        "found 'Wrotation'",
+    );
     expect_err("ROOT a\n", 1, "expected HIERARCHY");
     let frames = TINY.replace("Frames: 3", "Frames: three");
     expect_err(&frames, 26, "whole number of frames");
@@ -187,8 +199,7 @@ fn pybvh_60_joint_asset() {
     assert_eq!(b.end_site_count(), 13);
     assert_eq!(b.frame_count, 100);
     assert_eq!(b.channel_count(), 6 + 59 * 3);
-    let orders: std::collections::HashSet<_> =
-        (0..60).filter_map(|j| b.rotation_order(j)).collect();
+    let orders: std::collections::HashSet<_> = (0..60).filter_map(|j| b.rotation_order(j)).collect();
     assert!(orders.len() >= 3, "the file mixes rotation orders");
     assert_eq!(b.world_positions(99).len(), 60);
 }

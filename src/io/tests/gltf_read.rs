@@ -30,7 +30,8 @@ impl DocBuilder {
         while self.bin.len() % 4 != 0 {
             self.bin.push(0);
         }
-        self.views.push(json!({"buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len()}));
+        self.views
+            .push(json!({"buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len()}));
         self.bin.extend_from_slice(bytes);
         let mut a = json!({"bufferView": self.views.len() - 1, "componentType": component, "count": count, "type": ty});
         if let (Some(a), Value::Object(e)) = (a.as_object_mut(), extra) {
@@ -42,10 +43,20 @@ impl DocBuilder {
 
     /// A float VEC3 POSITION accessor with the required min/max.
     pub(super) fn positions(&mut self, p: &[[f32; 3]]) -> usize {
-        let min: Vec<f32> = (0..3).map(|c| p.iter().map(|v| v[c]).fold(f32::INFINITY, f32::min)).collect();
-        let max: Vec<f32> = (0..3).map(|c| p.iter().map(|v| v[c]).fold(f32::NEG_INFINITY, f32::max)).collect();
+        let min: Vec<f32> = (0..3)
+            .map(|c| p.iter().map(|v| v[c]).fold(f32::INFINITY, f32::min))
+            .collect();
+        let max: Vec<f32> = (0..3)
+            .map(|c| p.iter().map(|v| v[c]).fold(f32::NEG_INFINITY, f32::max))
+            .collect();
         let flat: Vec<f32> = p.iter().flatten().copied().collect();
-        self.accessor(&f32_bytes(&flat), 5126, p.len(), "VEC3", json!({"min": min, "max": max}))
+        self.accessor(
+            &f32_bytes(&flat),
+            5126,
+            p.len(),
+            "VEC3",
+            json!({"min": min, "max": max}),
+        )
     }
 
     /// The finished document; `buffer_len` overrides the declared byteLength.
@@ -115,7 +126,10 @@ fn simple_skin_asset() {
     assert_eq!(s.nodes[2].parent, Some(1));
     assert_eq!(s.animations.len(), 1);
     let c = &s.animations[0].channels[0];
-    assert_eq!((c.node, c.path, c.interpolation), (2, AnimPath::Rotation, Interpolation::Linear));
+    assert_eq!(
+        (c.node, c.path, c.interpolation),
+        (2, AnimPath::Rotation, Interpolation::Linear)
+    );
     assert_eq!(c.times.len(), 12);
     // Zero-weight padding entries are dropped; every vertex keeps weights summing to 1.
     let w = s.meshes[0].primitives[0].skin_weights.as_ref().unwrap();
@@ -144,36 +158,92 @@ fn morph_stress_asset() {
     }
 }
 
-fn channel(path: AnimPath, interpolation: Interpolation, times: &[f32], width: usize, values: &[f32]) -> AnimationChannel {
-    AnimationChannel { node: 0, path, interpolation, times: times.to_vec(), width, values: values.to_vec() }
+fn channel(
+    path: AnimPath,
+    interpolation: Interpolation,
+    times: &[f32],
+    width: usize,
+    values: &[f32],
+) -> AnimationChannel {
+    AnimationChannel {
+        node: 0,
+        path,
+        interpolation,
+        times: times.to_vec(),
+        width,
+        values: values.to_vec(),
+    }
 }
 
 #[test]
 fn sampling_follows_the_spec() {
-    let lin = channel(AnimPath::Translation, Interpolation::Linear, &[0.0, 1.0], 3, &[0.0, 0.0, 0.0, 2.0, 4.0, 6.0]);
+    let lin = channel(
+        AnimPath::Translation,
+        Interpolation::Linear,
+        &[0.0, 1.0],
+        3,
+        &[0.0, 0.0, 0.0, 2.0, 4.0, 6.0],
+    );
     assert_eq!(lin.sample(0.25), Sample::Translation(Vec3::new(0.5, 1.0, 1.5)));
-    assert_eq!(lin.sample(-1.0), Sample::Translation(Vec3::ZERO), "clamps before the first key");
-    assert_eq!(lin.sample(5.0), Sample::Translation(Vec3::new(2.0, 4.0, 6.0)), "clamps after the last key");
-    let step = channel(AnimPath::Scale, Interpolation::Step, &[0.0, 1.0], 3, &[1.0, 1.0, 1.0, 2.0, 2.0, 2.0]);
+    assert_eq!(
+        lin.sample(-1.0),
+        Sample::Translation(Vec3::ZERO),
+        "clamps before the first key"
+    );
+    assert_eq!(
+        lin.sample(5.0),
+        Sample::Translation(Vec3::new(2.0, 4.0, 6.0)),
+        "clamps after the last key"
+    );
+    let step = channel(
+        AnimPath::Scale,
+        Interpolation::Step,
+        &[0.0, 1.0],
+        3,
+        &[1.0, 1.0, 1.0, 2.0, 2.0, 2.0],
+    );
     assert_eq!(step.sample(0.99), Sample::Scale(Vec3::ONE));
     assert_eq!(step.sample(1.0), Sample::Scale(Vec3::splat(2.0)));
     // Slerp takes the short way even when the next key is stored negated.
     let q90 = -Quat::from_rotation_z(std::f32::consts::FRAC_PI_2);
-    let rot = channel(AnimPath::Rotation, Interpolation::Linear, &[0.0, 2.0], 4,
-        &[0.0, 0.0, 0.0, 1.0, q90.x, q90.y, q90.z, q90.w]);
+    let rot = channel(
+        AnimPath::Rotation,
+        Interpolation::Linear,
+        &[0.0, 2.0],
+        4,
+        &[0.0, 0.0, 0.0, 1.0, q90.x, q90.y, q90.z, q90.w],
+    );
     let Sample::Rotation(q) = rot.sample(1.0) else { panic!() };
     let want = Quat::from_rotation_z(std::f32::consts::FRAC_PI_4);
     assert!(q.dot(want).abs() > 1.0 - 1e-6, "{q:?}");
     // Cubic Hermite: p(0)=0, p'(0)=1/s, p(2)=1, p'(2)=0 is p(t) = t - t^2/4, so p(1) = 0.75.
     // Tangents are per second; the spec scales them by the 2 s interval.
-    let cubic = channel(AnimPath::Translation, Interpolation::CubicSpline, &[0.0, 2.0], 3, &[
-        0.0, 0.0, 0.0, /* v0 */ 0.0, 0.0, 0.0, /* b0 */ 1.0, 0.0, 0.0,
-        /* a1 */ 0.0, 0.0, 0.0, /* v1 */ 1.0, 0.0, 0.0, 0.0, 0.0, 0.0,
-    ]);
-    let Sample::Translation(p) = cubic.sample(1.0) else { panic!() };
+    let cubic = channel(
+        AnimPath::Translation,
+        Interpolation::CubicSpline,
+        &[0.0, 2.0],
+        3,
+        &[
+            0.0, 0.0, 0.0, /* v0 */ 0.0, 0.0, 0.0, /* b0 */ 1.0, 0.0, 0.0, /* a1 */ 0.0, 0.0, 0.0,
+            /* v1 */ 1.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+        ],
+    );
+    let Sample::Translation(p) = cubic.sample(1.0) else {
+        panic!()
+    };
     assert!((p.x - 0.75).abs() < 1e-7, "{p:?}");
-    assert_eq!(cubic.sample(2.0), Sample::Translation(Vec3::X), "a key time returns the key as-is");
-    let weights = channel(AnimPath::Weights, Interpolation::Linear, &[0.0, 1.0], 2, &[0.0, 1.0, 1.0, 0.0]);
+    assert_eq!(
+        cubic.sample(2.0),
+        Sample::Translation(Vec3::X),
+        "a key time returns the key as-is"
+    );
+    let weights = channel(
+        AnimPath::Weights,
+        Interpolation::Linear,
+        &[0.0, 1.0],
+        2,
+        &[0.0, 1.0, 1.0, 0.0],
+    );
     assert_eq!(weights.sample(0.5), Sample::Weights(vec![0.5, 0.5]));
 }
 
@@ -185,15 +255,29 @@ fn features_of_hand_built_documents() {
     let j0 = d.accessor(&u16_bytes(&[0, 1, 2, 3].repeat(3)), 5123, 3, "VEC4", json!({}));
     let w0 = d.accessor(&f32_bytes(&[0.3, 0.2, 0.1, 0.1].repeat(3)), 5126, 3, "VEC4", json!({}));
     let j1 = d.accessor(&[4u8, 5, 0, 0].repeat(3), 5121, 3, "VEC4", json!({}));
-    let w1 = d.accessor(&[51u8, 51, 0, 0].repeat(3), 5121, 3, "VEC4", json!({"normalized": true}));
+    let w1 = d.accessor(
+        &[51u8, 51, 0, 0].repeat(3),
+        5121,
+        3,
+        "VEC4",
+        json!({"normalized": true}),
+    );
     // Sparse morph target without a bufferView: zeros, with vertex 2 replaced.
     let si = d.accessor(&u16_bytes(&[2, 0]), 5123, 1, "SCALAR", json!({}));
     let sv = d.accessor(&f32_bytes(&[0.0, 0.0, 1.0]), 5126, 1, "VEC3", json!({}));
-    d.accessors.push(json!({"componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [0, 0, 1],
+    d.accessors.push(
+        json!({"componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [0, 0, 1],
         "sparse": {"count": 1, "indices": {"bufferView": d.accessors[si]["bufferView"], "componentType": 5123},
-                   "values": {"bufferView": d.accessors[sv]["bufferView"]}}}));
+                   "values": {"bufferView": d.accessors[sv]["bufferView"]}}}),
+    );
     let target = d.accessors.len() - 1;
-    let cubic_t = d.accessor(&f32_bytes(&[0.0, 1.0]), 5126, 2, "SCALAR", json!({"min": [0.0], "max": [1.0]}));
+    let cubic_t = d.accessor(
+        &f32_bytes(&[0.0, 1.0]),
+        5126,
+        2,
+        "SCALAR",
+        json!({"min": [0.0], "max": [1.0]}),
+    );
     let cubic_v = d.accessor(&f32_bytes(&[0.0; 18]), 5126, 6, "VEC3", json!({}));
     let bytes = d.finish(json!({
         "scene": 0,
@@ -216,13 +300,24 @@ fn features_of_hand_built_documents() {
     let (js, ws) = w.influences(1);
     assert_eq!(js, [0, 1, 2, 3, 4, 5]);
     assert!((ws[4] - 0.2).abs() < 1e-7 && (ws[5] - 0.2).abs() < 1e-7);
-    assert_eq!(s.meshes[0].primitives[0].mesh.triangles, [[0, 1, 2]], "indices generated when absent");
+    assert_eq!(
+        s.meshes[0].primitives[0].mesh.triangles,
+        [[0, 1, 2]],
+        "indices generated when absent"
+    );
     let t = &s.meshes[0].primitives[0].targets[0];
     assert_eq!(t.positions, [Vec3::ZERO, Vec3::ZERO, Vec3::Z]);
-    assert_eq!(s.skins[0].inverse_bind_matrices, vec![Mat4::IDENTITY; 6], "identity IBMs when absent");
+    assert_eq!(
+        s.skins[0].inverse_bind_matrices,
+        vec![Mat4::IDENTITY; 6],
+        "identity IBMs when absent"
+    );
     let root = &s.nodes[1];
     assert!(root.matrix.is_some());
-    assert_eq!((root.translation, root.scale), (Vec3::new(1.0, 2.0, 3.0), Vec3::splat(2.0)));
+    assert_eq!(
+        (root.translation, root.scale),
+        (Vec3::new(1.0, 2.0, 3.0), Vec3::splat(2.0))
+    );
     assert_eq!(s.nodes[3].parent, Some(2));
     assert_eq!(s.roots, [0, 1]);
     assert_eq!(s.animations[0].channels[0].interpolation, Interpolation::CubicSpline);
@@ -233,27 +328,50 @@ fn features_of_hand_built_documents() {
 fn malformed_documents_give_clear_errors() {
     assert!(read_gltf_slice(&triangle_doc(&[0, 1, 2]), None).is_ok());
     let e = err_of(&triangle_doc(&[0, 1, 7]));
-    assert!(e.contains("indices") && e.contains("vertex 7") && e.contains("3 vertices"), "{e}");
+    assert!(
+        e.contains("indices") && e.contains("vertex 7") && e.contains("3 vertices"),
+        "{e}"
+    );
 
     // Buffer shorter than declared.
     let mut d = DocBuilder::default();
     let pos = d.positions(&TRI);
-    let bytes = d.finish(json!({"meshes": [{"primitives": [{"attributes": {"POSITION": pos}}]}]}), Some(1000));
+    let bytes = d.finish(
+        json!({"meshes": [{"primitives": [{"attributes": {"POSITION": pos}}]}]}),
+        Some(1000),
+    );
     let e = err_of(&bytes);
     assert!(e.contains("declares 1000 bytes"), "{e}");
 
     // POSITION declared as VEC2.
     let mut d = DocBuilder::default();
-    let p = d.accessor(&f32_bytes(&[0.0; 6]), 5126, 3, "VEC2", json!({"min": [0, 0], "max": [0, 0]}));
-    let bytes = d.finish(json!({"meshes": [{"primitives": [{"attributes": {"POSITION": p}}]}]}), None);
+    let p = d.accessor(
+        &f32_bytes(&[0.0; 6]),
+        5126,
+        3,
+        "VEC2",
+        json!({"min": [0, 0], "max": [0, 0]}),
+    );
+    let bytes = d.finish(
+        json!({"meshes": [{"primitives": [{"attributes": {"POSITION": p}}]}]}),
+        None,
+    );
     let e = read_gltf_slice(&bytes, None).unwrap_err().to_string();
     assert!(e.contains("POSITION") || e.contains("Vec2"), "{e}");
 
     // NaN in positions.
     let mut d = DocBuilder::default();
-    let p = d.accessor(&f32_bytes(&[0.0, 0.0, f32::NAN, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]), 5126, 3, "VEC3",
-        json!({"min": [0, 0, 0], "max": [1, 1, 0]}));
-    let bytes = d.finish(json!({"meshes": [{"primitives": [{"attributes": {"POSITION": p}}]}]}), None);
+    let p = d.accessor(
+        &f32_bytes(&[0.0, 0.0, f32::NAN, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]),
+        5126,
+        3,
+        "VEC3",
+        json!({"min": [0, 0, 0], "max": [1, 1, 0]}),
+    );
+    let bytes = d.finish(
+        json!({"meshes": [{"primitives": [{"attributes": {"POSITION": p}}]}]}),
+        None,
+    );
     let e = err_of(&bytes);
     assert!(e.contains("NaN") && e.contains("POSITION"), "{e}");
 
@@ -261,36 +379,70 @@ fn malformed_documents_give_clear_errors() {
     let mut d = DocBuilder::default();
     let p = d.positions(&TRI);
     d.accessors[p]["count"] = json!(300);
-    let bytes = d.finish(json!({"meshes": [{"primitives": [{"attributes": {"POSITION": p}}]}]}), None);
+    let bytes = d.finish(
+        json!({"meshes": [{"primitives": [{"attributes": {"POSITION": p}}]}]}),
+        None,
+    );
     let e = err_of(&bytes);
     assert!(e.contains("needs") && e.contains("buffer view"), "{e}");
 
     // A node with two parents, and a missing external buffer.
     let bytes = serde_json::to_vec(&json!({"asset": {"version": "2.0"},
-        "nodes": [{"children": [2]}, {"children": [2]}, {}]})).unwrap();
+        "nodes": [{"children": [2]}, {"children": [2]}, {}]}))
+    .unwrap();
     assert!(err_of(&bytes).contains("child of both"));
     let bytes = serde_json::to_vec(&json!({"asset": {"version": "2.0"},
-        "buffers": [{"byteLength": 4, "uri": "missing.bin"}]})).unwrap();
-    let e = read_gltf_slice(&bytes, Some(std::path::Path::new("/nonexistent"))).unwrap_err().to_string();
+        "buffers": [{"byteLength": 4, "uri": "missing.bin"}]}))
+    .unwrap();
+    let e = read_gltf_slice(&bytes, Some(std::path::Path::new("/nonexistent")))
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("missing.bin"), "{e}");
     assert!(err_of(&bytes).contains("no base directory"));
     let e = read_gltf("/nonexistent/file.glb").unwrap_err().to_string();
     assert!(e.contains("/nonexistent/file.glb"), "{e}");
     // Animation keys out of order.
     let mut d = DocBuilder::default();
-    let t = d.accessor(&f32_bytes(&[1.0, 0.5]), 5126, 2, "SCALAR", json!({"min": [0.5], "max": [1.0]}));
+    let t = d.accessor(
+        &f32_bytes(&[1.0, 0.5]),
+        5126,
+        2,
+        "SCALAR",
+        json!({"min": [0.5], "max": [1.0]}),
+    );
     let v = d.accessor(&f32_bytes(&[0.0; 6]), 5126, 2, "VEC3", json!({}));
     let bytes = d.finish(json!({"nodes": [{}], "animations": [{"channels": [{"sampler": 0, "target": {"node": 0, "path": "translation"}}],
         "samplers": [{"input": t, "output": v}]}]}), None);
     assert!(err_of(&bytes).contains("strictly increase"));
+    // Required extensions that change the byte layout are refused by name.
+    let bytes = serde_json::to_vec(&json!({"asset": {"version": "2.0"},
+        "extensionsUsed": ["KHR_draco_mesh_compression"], "extensionsRequired": ["KHR_draco_mesh_compression"]}))
+    .unwrap();
+    assert!(err_of(&bytes).contains("requires extension KHR_draco_mesh_compression"));
     // Animation targeting a node or path that does not exist (gltf-json does not check these).
-    for target in [json!({"node": 5, "path": "translation"}), json!({"node": 0, "path": "translatio"})] {
+    for target in [
+        json!({"node": 5, "path": "translation"}),
+        json!({"node": 0, "path": "translatio"}),
+    ] {
         let mut d = DocBuilder::default();
-        let t = d.accessor(&f32_bytes(&[0.0]), 5126, 1, "SCALAR", json!({"min": [0.0], "max": [0.0]}));
+        let t = d.accessor(
+            &f32_bytes(&[0.0]),
+            5126,
+            1,
+            "SCALAR",
+            json!({"min": [0.0], "max": [0.0]}),
+        );
         let v = d.accessor(&f32_bytes(&[0.0; 3]), 5126, 1, "VEC3", json!({}));
-        let bytes = d.finish(json!({"nodes": [{}], "animations": [{"channels": [{"sampler": 0, "target": target}],
-            "samplers": [{"input": t, "output": v}]}]}), None);
-        assert!(err_of(&bytes).contains("animations[0].channels[0].target"), "{}", err_of(&bytes));
+        let bytes = d.finish(
+            json!({"nodes": [{}], "animations": [{"channels": [{"sampler": 0, "target": target}],
+            "samplers": [{"input": t, "output": v}]}]}),
+            None,
+        );
+        assert!(
+            err_of(&bytes).contains("animations[0].channels[0].target"),
+            "{}",
+            err_of(&bytes)
+        );
     }
 }
 
@@ -343,7 +495,10 @@ fn external_bin_file() {
     let pos = d.positions(&TRI);
     std::fs::write(dir.join("my data.bin"), &d.bin).unwrap();
     let mut doc: Value = serde_json::from_slice(&d.finish(
-        json!({"nodes": [{"mesh": 0}], "meshes": [{"primitives": [{"attributes": {"POSITION": pos}}]}]}), None)).unwrap();
+        json!({"nodes": [{"mesh": 0}], "meshes": [{"primitives": [{"attributes": {"POSITION": pos}}]}]}),
+        None,
+    ))
+    .unwrap();
     doc["buffers"][0]["uri"] = json!("my%20data.bin");
     std::fs::write(dir.join("tri.gltf"), serde_json::to_vec(&doc).unwrap()).unwrap();
     let s = read_gltf(dir.join("tri.gltf")).unwrap();

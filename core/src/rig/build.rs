@@ -1,0 +1,835 @@
+//! Loading: component expansion (prefix, rename, mirroring), typed values,
+//! and building the [`Graph`], with every error tied to a file position.
+//!
+//! Pipeline: parse each file ([`super::parse`]), read it into a document
+//! ([`super::doc`]), expand `Use`s recursively into a flat list of nodes
+//! with typed, merged values (this module), then create nodes, set values,
+//! parent, and connect — collecting all errors. A failed load returns the
+//! errors and no graph.
+
+use std::collections::{HashMap, HashSet};
+use std::path::{Component, Path, PathBuf};
+use std::rc::Rc;
+use std::sync::Arc;
+
+use super::diag::{Diagnostic, Diagnostics, Span};
+use super::doc::{read_document, Body, ConnDecl, NodeDecl, RigDocument, SetDecl, UseDecl};
+use super::mirror::{mirror_value, MirrorContext};
+use super::parse::{parse, Node};
+use super::typed::{example, read_value};
+use crate::error::{nearest, Error};
+use crate::graph::{Graph, NodeId, Plug};
+use crate::node::{NodeType, Time};
+use crate::path::{parse_plug_path, resolve_attr, AttrLookupError};
+use crate::registry::Registry;
+use crate::spec::{AttrId, MirrorRole, NodeSpec};
+use crate::value::{AttrType, Value};
+
+/// Where rig and component files come from (the file system, or memory for
+/// tests and fuzzing).
+pub trait RigSource {
+    /// The text of the file at `path`.
+    fn read(&self, path: &Path) -> std::io::Result<String>;
+}
+
+/// Reads files from disk (regular files up to 64 MiB).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FsSource;
+
+impl RigSource for FsSource {
+    fn read(&self, path: &Path) -> std::io::Result<String> {
+        let meta = std::fs::metadata(path)?;
+        if !meta.is_file() {
+            return Err(std::io::Error::other("not a regular file"));
+        }
+        if meta.len() > 64 << 20 {
+            return Err(std::io::Error::other("file is larger than 64 MiB"));
+        }
+        std::fs::read_to_string(path)
+    }
+}
+
+/// Files held in memory, by path.
+#[derive(Clone, Debug, Default)]
+pub struct MemSource {
+    /// The files.
+    pub files: HashMap<PathBuf, String>,
+}
+
+impl RigSource for MemSource {
+    fn read(&self, path: &Path) -> std::io::Result<String> {
+        self.files
+            .get(path)
+            .cloned()
+            .ok_or_else(|| std::io::Error::new(std::io::ErrorKind::NotFound, "no such file"))
+    }
+}
+
+/// Lexically normalizes a path (`a/./b/../c` → `a/c`) without touching the disk.
+pub fn normalize(p: &Path) -> PathBuf {
+    let mut out = PathBuf::new();
+    for c in p.components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir => {
+                if !out.pop() {
+                    out.push("..");
+                }
+            }
+            c => out.push(c.as_os_str()),
+        }
+    }
+    out
+}
+
+/// A node created by a top-level `Use`, as the use created it.
+#[derive(Clone, Debug)]
+pub(crate) struct RecNode {
+    pub name: String,
+    pub type_name: String,
+    pub parent: Option<String>,
+    pub values: Vec<(AttrId, Option<u32>, Value)>,
+}
+
+/// What one top-level `Use` created: nodes and (canonical) connections.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct UseRecord {
+    pub nodes: Vec<RecNode>,
+    pub connections: Vec<(String, String)>,
+}
+
+struct FlatVal {
+    attr: AttrId,
+    index: Option<u32>,
+    value: Value,
+    span: Span,
+}
+
+struct FlatNode {
+    name: String,
+    span: Span,
+    type_name: String,
+    kind: Option<Arc<dyn NodeType>>,
+    parent: Option<(String, Span)>,
+    values: Vec<FlatVal>,
+    via: Option<Span>,
+}
+
+#[derive(Clone)]
+struct FlatConn {
+    src: String,
+    dst: String,
+    src_span: Span,
+    dst_span: Span,
+}
+
+#[derive(Default)]
+struct Flat {
+    nodes: Vec<FlatNode>,
+    conns: Vec<FlatConn>,
+}
+
+struct FileDoc {
+    path: Arc<Path>,
+    doc: RigDocument,
+}
+
+struct Expander<'a> {
+    registry: &'a Registry,
+    source: &'a dyn RigSource,
+    diags: Diagnostics,
+    files: HashMap<PathBuf, Option<Rc<FileDoc>>>,
+    deps: Vec<PathBuf>,
+}
+
+fn map_node_part(path: &str, f: &dyn Fn(&str) -> String) -> String {
+    match path.split_once('.') {
+        Some((n, rest)) => format!("{}.{rest}", f(n)),
+        None => f(path),
+    }
+}
+
+impl<'a> Expander<'a> {
+    fn load_file(&mut self, path: &Path, at: &Span) -> Option<Rc<FileDoc>> {
+        let key = normalize(path);
+        if let Some(c) = self.files.get(&key) {
+            return c.clone();
+        }
+        self.deps.push(key.clone());
+        let text = match self.source.read(&key) {
+            Ok(t) => t,
+            Err(e) => {
+                self.diags.push(
+                    Diagnostic::new(at.clone(), format!("cannot read component file `{}`: {e}", key.display()))
+                        .hint("file paths are relative to the file that uses them"),
+                );
+                self.files.insert(key, None);
+                return None;
+            }
+        };
+        let fpath: Arc<Path> = Arc::from(key.as_path());
+        let fd = match parse(&text, &fpath) {
+            Ok(root) => {
+                let doc = read_document(&root, &fpath, &mut self.diags);
+                Some(Rc::new(FileDoc { path: fpath, doc }))
+            }
+            Err(d) => {
+                self.diags.push(d);
+                None
+            }
+        };
+        self.files.insert(key, fd.clone());
+        fd
+    }
+
+    fn spec_of<'s>(kind: &'s Option<Arc<dyn NodeType>>) -> Option<&'s NodeSpec> {
+        kind.as_ref().map(|k| k.spec())
+    }
+
+    /// Merges one authored value into a flat node (component writes update the whole value).
+    fn put(node: &mut FlatNode, attr: AttrId, index: Option<u32>, comp: Option<u8>, value: Value, span: Span) {
+        let Some(spec) = Self::spec_of(&node.kind) else { return };
+        let default = spec.attr(attr).default.clone();
+        let k = match node.values.iter().position(|v| v.attr == attr && v.index == index) {
+            Some(k) => k,
+            None => {
+                node.values.push(FlatVal {
+                    attr,
+                    index,
+                    value: default,
+                    span: span.clone(),
+                });
+                node.values.len() - 1
+            }
+        };
+        let e = &mut node.values[k];
+        match (comp, &mut e.value, value.as_f64()) {
+            (Some(c), Value::Vec3(v), Some(x)) => v[c as usize] = x,
+            _ => e.value = value,
+        }
+        e.span = span;
+    }
+
+    /// Reads `field: value` of a node of type `spec` into the flat node.
+    fn field(&mut self, node: &mut FlatNode, fname: &str, fspan: &Span, value: &Node) {
+        let Some(spec) = Self::spec_of(&node.kind) else { return };
+        let Some((attr, comp)) = spec.find(fname) else {
+            let hint = match nearest(fname, spec.all_names().chain(["parent"])) {
+                Some(s) => format!("did you mean `{s}`? `sinew nodes {}` lists its attributes", spec.name),
+                None => format!("`sinew nodes {}` lists its attributes", spec.name),
+            };
+            self.diags.push(
+                Diagnostic::new(fspan.clone(), format!("node type {} has no attribute `{fname}`", spec.name)).hint(hint),
+            );
+            return;
+        };
+        let a = spec.attr(attr).clone();
+        if !a.is_input() {
+            self.diags.push(
+                Diagnostic::new(fspan.clone(), format!("`{fname}` is an output of {}; outputs are computed", spec.name))
+                    .hint("set one of the node's inputs, or connect from this output"),
+            );
+            return;
+        }
+        let what = format!("`{fname}`");
+        if let Some(c) = comp {
+            match read_value(value, AttrType::Float, None, &what) {
+                Ok(v) => Self::put(node, attr, None, Some(c), v, value.span.clone()),
+                Err(d) => self.diags.push(d),
+            }
+            return;
+        }
+        if a.multi {
+            let entries: Vec<(u32, &Node)> = match &value.kind {
+                super::parse::Ast::List(items) => items.iter().enumerate().map(|(i, n)| (i as u32, n)).collect(),
+                super::parse::Ast::Map(items) => {
+                    let mut v = Vec::new();
+                    for (k, n) in items {
+                        match k.kind {
+                            super::parse::Ast::Int(i) if (0..=u32::MAX as i64).contains(&i) => v.push((i as u32, n)),
+                            _ => self.diags.push(
+                                Diagnostic::new(k.span.clone(), format!("{what}: element index must be a non-negative integer, found {}", k.kind.describe()))
+                                    .hint("write sparse elements as { 0: value, 4: value }"),
+                            ),
+                        }
+                    }
+                    v
+                }
+                _ => {
+                    self.diags.push(
+                        Diagnostic::new(
+                            value.span.clone(),
+                            format!("{what} is a multi attribute of {}; found {}", a.ty, value.kind.describe()),
+                        )
+                        .hint(format!(
+                            "write its elements as a list [{}, ..] or a map {{ 0: {}, 3: .. }}",
+                            example(a.ty, Some(&a)),
+                            example(a.ty, Some(&a))
+                        )),
+                    );
+                    return;
+                }
+            };
+            for (i, n) in entries {
+                match read_value(n, a.ty, Some(&a), &what) {
+                    Ok(v) => Self::put(node, attr, Some(i), None, v, n.span.clone()),
+                    Err(d) => self.diags.push(d),
+                }
+            }
+            return;
+        }
+        match read_value(value, a.ty, Some(&a), &what) {
+            Ok(v) => Self::put(node, attr, None, None, v, value.span.clone()),
+            Err(d) => self.diags.push(d),
+        }
+    }
+
+    fn flat_node(&mut self, n: &NodeDecl) -> FlatNode {
+        let kind = self.registry.get(&n.type_name).cloned();
+        if kind.is_none() {
+            let hint = match self.registry.suggest(&n.type_name) {
+                Some(s) => format!("did you mean `{s}`? `sinew nodes` lists the available types"),
+                None => "`sinew nodes` lists the available types".to_string(),
+            };
+            self.diags
+                .push(Diagnostic::new(n.type_span.clone(), format!("unknown node type `{}`", n.type_name)).hint(hint));
+        }
+        let mut node = FlatNode {
+            name: n.name.clone(),
+            span: n.name_span.clone(),
+            type_name: n.type_name.clone(),
+            kind,
+            parent: n.parent.clone(),
+            values: Vec::new(),
+            via: None,
+        };
+        for (f, fs, v) in &n.fields {
+            self.field(&mut node, f, fs, v);
+        }
+        node
+    }
+
+    /// Applies `"node.attr": value` overrides to a flat list (names as in the list).
+    fn apply_sets(&mut self, flat: &mut Flat, sets: &[SetDecl]) {
+        for s in sets {
+            let parts = match parse_plug_path(&s.path) {
+                Ok(p) => p,
+                Err(e) => {
+                    self.diags.push(
+                        Diagnostic::new(s.span.clone(), format!("invalid plug path {:?}: {e}", s.path))
+                            .hint("write \"node.attribute\", \"node.attr[2]\" or \"node.translateX\""),
+                    );
+                    continue;
+                }
+            };
+            let Some(k) = flat.nodes.iter().position(|n| n.name == parts.node) else {
+                let hint = nearest(parts.node, flat.nodes.iter().map(|n| n.name.as_str()))
+                    .map(|s| format!("did you mean `{s}`?"))
+                    .unwrap_or_else(|| "overrides refer to nodes by name".into());
+                self.diags
+                    .push(Diagnostic::new(s.span.clone(), format!("no node named `{}` to override", parts.node)).hint(hint));
+                continue;
+            };
+            let node = &mut flat.nodes[k];
+            let Some(spec) = Self::spec_of(&node.kind).cloned() else { continue };
+            let attr_span = s.span.shifted(parts.node.chars().count() + 1);
+            let (attr, comp) = match resolve_attr(&spec, parts.attr, parts.child) {
+                Ok(x) => x,
+                Err(AttrLookupError::Unknown(a)) => {
+                    let hint = nearest(&a, spec.all_names()).map(|s| format!("did you mean `{s}`?"));
+                    self.diags.push(
+                        Diagnostic::new(attr_span, format!("node type {} has no attribute `{a}`", spec.name))
+                            .hint_opt(hint),
+                    );
+                    continue;
+                }
+                Err(AttrLookupError::Malformed(m)) => {
+                    self.diags.push(Diagnostic::new(attr_span, m).hint("check the plug path"));
+                    continue;
+                }
+            };
+            let a = spec.attr(attr);
+            if !a.is_input() {
+                self.diags.push(
+                    Diagnostic::new(attr_span, format!("`{}` is an output; outputs are computed", a.name))
+                        .hint("override an input"),
+                );
+                continue;
+            }
+            if a.multi != parts.index.is_some() {
+                let m = if a.multi {
+                    format!("`{}` is a multi attribute; address an element like {}[0]", a.name, a.name)
+                } else {
+                    format!("`{}` is not a multi attribute; drop the [index]", a.name)
+                };
+                self.diags.push(Diagnostic::new(attr_span, m).hint("check the plug path"));
+                continue;
+            }
+            let ty = if comp.is_some() { AttrType::Float } else { a.ty };
+            match read_value(&s.value, ty, Some(a), &format!("`{}`", s.path)) {
+                Ok(v) => Self::put(node, attr, parts.index, comp, v, s.value.span.clone()),
+                Err(d) => self.diags.push(d),
+            }
+        }
+    }
+
+    fn expand_body(
+        &mut self,
+        body: &Body,
+        scope: &Rc<FileDoc>,
+        stack: &mut Vec<(String, Span)>,
+        mut records: Option<&mut Vec<UseRecord>>,
+    ) -> Flat {
+        let mut flat = Flat::default();
+        for u in &body.uses {
+            let sub = self.expand_use(u, scope, stack);
+            if let Some(r) = records.as_deref_mut() {
+                r.push(UseRecord {
+                    nodes: sub
+                        .nodes
+                        .iter()
+                        .map(|n| RecNode {
+                            name: n.name.clone(),
+                            type_name: n.type_name.clone(),
+                            parent: n.parent.as_ref().map(|p| p.0.clone()),
+                            values: n.values.iter().map(|v| (v.attr, v.index, v.value.clone())).collect(),
+                        })
+                        .collect(),
+                    connections: sub.conns.iter().map(|c| (c.src.clone(), c.dst.clone())).collect(),
+                });
+            }
+            flat.nodes.extend(sub.nodes);
+            flat.conns.extend(sub.conns);
+        }
+        for n in &body.nodes {
+            let fnode = self.flat_node(n);
+            flat.nodes.push(fnode);
+        }
+        flat.conns.extend(body.connections.iter().map(|c: &ConnDecl| FlatConn {
+            src: c.src.clone(),
+            dst: c.dst.clone(),
+            src_span: c.src_span.clone(),
+            dst_span: c.dst_span.clone(),
+        }));
+        self.apply_sets(&mut flat, &body.set);
+        flat
+    }
+
+    fn expand_use(&mut self, u: &UseDecl, scope: &Rc<FileDoc>, stack: &mut Vec<(String, Span)>) -> Flat {
+        let target_scope = match &u.file {
+            Some((f, fspan)) => {
+                let dir = scope.path.parent().unwrap_or(Path::new(""));
+                match self.load_file(&dir.join(f), fspan) {
+                    Some(fd) => fd,
+                    None => return Flat::default(),
+                }
+            }
+            None => scope.clone(),
+        };
+        let (label, body) = match &u.component {
+            Some((c, cspan)) => match target_scope.doc.component(c) {
+                Some(def) => (format!("{c} ({})", target_scope.path.display()), def.body.clone()),
+                None => {
+                    let hint = match nearest(c, target_scope.doc.components.iter().map(|d| d.name.as_str())) {
+                        Some(s) => format!("did you mean `{s}`?"),
+                        None => format!("define it under `components: {{ {c:?}: (nodes: {{..}}) }}`"),
+                    };
+                    self.diags.push(
+                        Diagnostic::new(
+                            cspan.clone(),
+                            format!("no component named `{c}` in {}", target_scope.path.display()),
+                        )
+                        .hint(hint),
+                    );
+                    return Flat::default();
+                }
+            },
+            None => (target_scope.path.display().to_string(), target_scope.doc.body.clone()),
+        };
+        if let Some(k) = stack.iter().position(|(l, _)| *l == label) {
+            let mut chain: Vec<String> = stack[k..].iter().map(|(l, _)| l.clone()).collect();
+            chain.push(label.clone());
+            let mut d = Diagnostic::new(u.span.clone(), format!("component cycle: {}", chain.join(" -> ")))
+                .hint("a component cannot use itself, directly or through other components");
+            for (l, s) in &stack[k..] {
+                d = d.note(s.clone(), format!("{l} is used here"));
+            }
+            self.diags.push(d);
+            return Flat::default();
+        }
+        if stack.len() > 64 {
+            self.diags.push(Diagnostic::new(u.span.clone(), "components are nested more than 64 deep").hint("flatten the component structure"));
+            return Flat::default();
+        }
+        stack.push((label, u.span.clone()));
+        let mut flat = self.expand_body(&body, &target_scope, stack, None);
+        stack.pop();
+        self.apply_sets(&mut flat, &u.set);
+        if let Some(plane) = u.mirror {
+            let names: HashSet<String> = flat.nodes.iter().map(|n| n.name.clone()).collect();
+            for node in &mut flat.nodes {
+                let Some(spec) = Self::spec_of(&node.kind).cloned() else { continue };
+                let child = node.parent.as_ref().is_some_and(|p| names.contains(&p.0));
+                let role_attr = |r: MirrorRole| spec.attr_ids().find(|&id| spec.attr(id).mirror == r);
+                let has_jo = role_attr(MirrorRole::JointOrient).is_some();
+                let rotate_order = role_attr(MirrorRole::RotateOrder)
+                    .map(|id| {
+                        node.values
+                            .iter()
+                            .find(|v| v.attr == id)
+                            .map(|v| v.value.clone())
+                            .unwrap_or_else(|| spec.attr(id).default.clone())
+                    })
+                    .and_then(|v| v.as_f64())
+                    .map(|x| x as i64)
+                    .unwrap_or(0);
+                if !child {
+                    // The root rotation absorbs the mirror even when not authored.
+                    let absorb = if has_jo { MirrorRole::JointOrient } else { MirrorRole::Rotate };
+                    for id in spec.attr_ids() {
+                        let a = spec.attr(id);
+                        if a.mirror == absorb && a.is_input() && !a.multi && !node.values.iter().any(|v| v.attr == id) {
+                            let span = node.span.clone();
+                            Self::put(node, id, None, None, a.default.clone(), span);
+                        }
+                    }
+                }
+                let cx = MirrorContext {
+                    plane,
+                    child,
+                    has_joint_orient: has_jo,
+                    rotate_order,
+                };
+                for v in &mut node.values {
+                    let role = spec.attr(v.attr).mirror;
+                    if role != MirrorRole::None {
+                        v.value = mirror_value(role, &v.value, &cx);
+                    }
+                }
+            }
+        }
+        let renames = u.renames();
+        let defined: HashSet<String> = flat.nodes.iter().map(|n| n.name.clone()).collect();
+        let prefix = u.prefix.clone();
+        let map = move |n: &str| -> String {
+            if defined.contains(n) {
+                let mut s = n.to_string();
+                for (a, b) in &renames {
+                    s = s.replace(a.as_str(), b);
+                }
+                format!("{prefix}{s}")
+            } else {
+                n.to_string()
+            }
+        };
+        for n in &mut flat.nodes {
+            n.name = map(&n.name);
+            if let Some(p) = &mut n.parent {
+                p.0 = map(&p.0);
+            }
+            n.via = Some(u.span.clone());
+        }
+        for c in &mut flat.conns {
+            c.src = map_node_part(&c.src, &map);
+            c.dst = map_node_part(&c.dst, &map);
+        }
+        flat
+    }
+}
+
+/// A loaded rig: the graph, the document it came from (to save it back with
+/// its components), and every file it was read from.
+pub struct LoadedRig {
+    /// The graph.
+    pub graph: Graph,
+    /// The document (with what each `Use` created).
+    pub document: RigDocument,
+    /// The rig file and every component file it includes, normalized.
+    pub files: Vec<PathBuf>,
+}
+
+impl std::fmt::Debug for LoadedRig {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("LoadedRig")
+            .field("graph", &self.graph)
+            .field("files", &self.files)
+            .finish()
+    }
+}
+
+/// Loads the rig file at `path`.
+pub fn load_rig(path: &Path, registry: &Arc<Registry>) -> Result<LoadedRig, Diagnostics> {
+    let key = normalize(path);
+    let span = Span::new(&Arc::from(key.as_path()), 1, 1);
+    match FsSource.read(&key) {
+        Ok(text) => load_rig_with(&text, &key, registry, &FsSource),
+        Err(e) => Err(Diagnostics {
+            errors: vec![Diagnostic::new(span, format!("cannot read rig file: {e}")).hint("check the path")],
+        }),
+    }
+}
+
+/// Loads a rig from text; `virtual_path` names it in errors and anchors
+/// relative component paths (read from disk).
+pub fn load_rig_str(text: &str, virtual_path: &Path, registry: &Arc<Registry>) -> Result<LoadedRig, Diagnostics> {
+    load_rig_with(text, virtual_path, registry, &FsSource)
+}
+
+/// Loads a rig from text, reading component files through `source`.
+pub fn load_rig_with(
+    text: &str,
+    virtual_path: &Path,
+    registry: &Arc<Registry>,
+    source: &dyn RigSource,
+) -> Result<LoadedRig, Diagnostics> {
+    let key = normalize(virtual_path);
+    let fpath: Arc<Path> = Arc::from(key.as_path());
+    let mut exp = Expander {
+        registry,
+        source,
+        diags: Diagnostics::default(),
+        files: HashMap::new(),
+        deps: vec![key.clone()],
+    };
+    let root = parse(text, &fpath).map_err(|d| Diagnostics { errors: vec![d] })?;
+    let doc = read_document(&root, &fpath, &mut exp.diags);
+    let scope = Rc::new(FileDoc {
+        path: fpath.clone(),
+        doc,
+    });
+    exp.files.insert(key.clone(), Some(scope.clone()));
+    let mut records = Vec::new();
+    let mut stack = vec![(fpath.display().to_string(), Span::new(&fpath, 1, 1))];
+    let body = scope.doc.body.clone();
+    let flat = exp.expand_body(&body, &scope, &mut stack, Some(&mut records));
+    let mut diags = std::mem::take(&mut exp.diags);
+    let graph = build_graph(&flat, registry, &mut diags);
+    let files = exp.deps.clone();
+    drop(exp);
+    let mut doc = Rc::try_unwrap(scope).map(|f| f.doc).unwrap_or_else(|rc| rc.doc.clone());
+    if !diags.is_empty() {
+        diags.finish();
+        return Err(diags);
+    }
+    let mut graph = graph;
+    // Canonical names for the connections each use made.
+    for r in &mut records {
+        r.connections = r
+            .connections
+            .iter()
+            .filter_map(|(s, d)| Some((graph.plug_name(graph.plug(s).ok()?), graph.plug_name(graph.plug(d).ok()?))))
+            .collect();
+    }
+    doc.records = records;
+    if doc.fps.is_some() || doc.frames.is_some() {
+        graph.set_time(Time::new(
+            doc.frames.map(|f| f.0).unwrap_or(0.0),
+            doc.fps.unwrap_or(Time::default().fps),
+        ));
+    }
+    Ok(LoadedRig {
+        graph,
+        document: doc,
+        files,
+    })
+}
+
+fn resolve(
+    graph: &Graph,
+    path: &str,
+    span: &Span,
+    broken: &HashSet<&str>,
+    diags: &mut Diagnostics,
+) -> Option<Plug> {
+    let parts = match parse_plug_path(path) {
+        Ok(p) => p,
+        Err(e) => {
+            diags.push(
+                Diagnostic::new(span.clone(), format!("invalid plug path {path:?}: {e}"))
+                    .hint("write \"node.attribute\", \"node.attr[2]\" or \"node.translateX\""),
+            );
+            return None;
+        }
+    };
+    if broken.contains(parts.node) {
+        return None;
+    }
+    match graph.plug(path) {
+        Ok(p) => Some(p),
+        Err(Error::UnknownNode { name, suggestion }) => {
+            let hint = match suggestion {
+                Some(s) => format!("did you mean `{s}`?"),
+                None => "define the node under `nodes`, or check the name".into(),
+            };
+            diags.push(Diagnostic::new(span.clone(), format!("no node named `{name}`")).hint(hint));
+            None
+        }
+        Err(Error::UnknownAttribute {
+            node,
+            node_type,
+            attr,
+            suggestion,
+        }) => {
+            let hint = match suggestion {
+                Some(s) => format!("did you mean `{s}`? `sinew nodes {node_type}` lists its attributes"),
+                None => format!("`sinew nodes {node_type}` lists its attributes"),
+            };
+            let at = span.shifted(node.chars().count() + 1);
+            diags.push(
+                Diagnostic::new(at, format!("node `{node}` (type {node_type}) has no attribute `{attr}`")).hint(hint),
+            );
+            None
+        }
+        Err(e) => {
+            diags.push(Diagnostic::new(span.clone(), e.to_string()).hint("check the plug path"));
+            None
+        }
+    }
+}
+
+type EdgeKey = (NodeId, AttrId, NodeId, AttrId);
+
+fn build_graph(flat: &Flat, registry: &Arc<Registry>, diags: &mut Diagnostics) -> Graph {
+    let mut g = Graph::new(registry.clone());
+    let mut first: HashMap<&str, &FlatNode> = HashMap::new();
+    let mut broken: HashSet<&str> = HashSet::new();
+    let mut ids: Vec<Option<NodeId>> = Vec::with_capacity(flat.nodes.len());
+    for n in &flat.nodes {
+        let at = n.via.clone().unwrap_or_else(|| n.span.clone());
+        if let Some(f) = first.get(n.name.as_str()) {
+            let mut d = Diagnostic::new(at, format!("duplicate node name `{}`", n.name))
+                .hint("node names must be unique; give the component instance a prefix or rename one node");
+            d = d.note(f.via.clone().unwrap_or_else(|| f.span.clone()), "first created here");
+            diags.push(d);
+            ids.push(None);
+            continue;
+        }
+        first.insert(&n.name, n);
+        if n.kind.is_none() {
+            broken.insert(&n.name);
+            ids.push(None);
+            continue;
+        }
+        match g.add_node(&n.type_name, &n.name) {
+            Ok(id) => ids.push(Some(id)),
+            Err(e) => {
+                let mut d = Diagnostic::new(n.span.clone(), e.to_string())
+                    .hint("node names are letters, digits and '_', not starting with a digit");
+                if let Some(v) = &n.via {
+                    d = d.note(v.clone(), "created by this Use");
+                }
+                diags.push(d);
+                broken.insert(&n.name);
+                ids.push(None);
+            }
+        }
+    }
+    for (n, id) in flat.nodes.iter().zip(&ids) {
+        let Some(id) = *id else { continue };
+        for v in &n.values {
+            let plug = Plug {
+                node: id,
+                attr: v.attr,
+                index: v.index,
+                component: None,
+            };
+            if let Err(e) = g.set(plug, v.value.clone()) {
+                diags.push(Diagnostic::new(v.span.clone(), e.to_string()).hint("check the value"));
+            }
+        }
+    }
+    let mut edges: HashMap<EdgeKey, (Span, String)> = HashMap::new();
+    for (n, id) in flat.nodes.iter().zip(&ids) {
+        let (Some(id), Some((p, pspan))) = (*id, &n.parent) else { continue };
+        if broken.contains(p.as_str()) {
+            continue;
+        }
+        let Some(pid) = g.find_node(p) else {
+            let hint = match nearest(p, first.keys().copied()) {
+                Some(s) => format!("did you mean `{s}`?"),
+                None => "parent names a node of this rig".into(),
+            };
+            diags.push(Diagnostic::new(pspan.clone(), format!("no node named `{p}` to parent under")).hint(hint));
+            continue;
+        };
+        match g.set_parent(id, Some(pid)) {
+            Ok(()) => {
+                if let Some(dag) = g.node_spec(id).and_then(|s| s.dag.clone()) {
+                    for dst_attr in std::iter::once(dag.parent_matrix).chain(dag.links.iter().map(|l| l.1)) {
+                        if let Some(src) = g.source_of(Plug::new(id, dst_attr)) {
+                            edges.insert(
+                                (src.node, src.attr, id, dst_attr),
+                                (pspan.clone(), format!("parenting {} under {p}", n.name)),
+                            );
+                        }
+                    }
+                }
+            }
+            Err(e) => diags.push(Diagnostic::new(pspan.clone(), e.to_string()).hint("only transform-like nodes can be parented, and not under their own children")),
+        }
+    }
+    for c in &flat.conns {
+        let s = resolve(&g, &c.src, &c.src_span, &broken, diags);
+        let d = resolve(&g, &c.dst, &c.dst_span, &broken, diags);
+        let (Some(s), Some(d)) = (s, d) else { continue };
+        let text = format!("{} -> {}", g.plug_name(s), g.plug_name(d));
+        match g.connect(s, d) {
+            Ok(()) => {
+                edges.insert((s.node, s.attr, d.node, d.attr), (c.src_span.clone(), text));
+            }
+            Err(Error::Cycle { cycle, .. }) => {
+                let mut diag = Diagnostic::new(
+                    c.src_span.clone(),
+                    format!("connection {text} closes a plug cycle: {}", cycle.join(" -> ")),
+                )
+                .hint("plugs cannot depend on themselves; remove one of the connections in the cycle");
+                if let Some(path) = g.dependency_path((d.node, d.attr), (s.node, s.attr)) {
+                    for w in path.windows(2) {
+                        let key = (w[0].0, w[0].1, w[1].0, w[1].1);
+                        if let Some((sp, t)) = edges.get(&key) {
+                            diag = diag.note(sp.clone(), t.clone());
+                        }
+                    }
+                }
+                diags.push(diag);
+            }
+            Err(Error::ConnectTypeMismatch {
+                src,
+                src_type,
+                dst,
+                dst_type,
+            }) => {
+                let hint = if src_type == AttrType::Vec3 && dst_type == AttrType::Float {
+                    format!("connect one component, e.g. {src}X, or use a vec3 destination")
+                } else if src_type == AttrType::Float && dst_type == AttrType::Vec3 {
+                    format!("connect into one component, e.g. {dst}X")
+                } else {
+                    "both ends must have the same type (int and enum mix)".to_string()
+                };
+                diags.push(
+                    Diagnostic::new(
+                        c.dst_span.clone(),
+                        format!("type mismatch: {src} is {src_type} but {dst} is {dst_type}"),
+                    )
+                    .hint(hint),
+                );
+            }
+            Err(Error::AlreadyConnected { dst, existing }) => {
+                let mut diag = Diagnostic::new(c.dst_span.clone(), format!("{dst} is already driven by {existing}"))
+                    .hint("an input has one source; remove one of the connections");
+                if let Some(src) = g.source_of(d).or_else(|| (0..3).find_map(|k| g.source_of(d.component(k)))) {
+                    if let Some((sp, t)) = edges.get(&(src.node, src.attr, d.node, d.attr)) {
+                        diag = diag.note(sp.clone(), t.clone());
+                    }
+                }
+                diags.push(diag);
+            }
+            Err(Error::ConnectToOutput { dst }) => diags.push(
+                Diagnostic::new(c.dst_span.clone(), format!("cannot connect into {dst}: it is an output"))
+                    .hint("the destination must be an input; are source and destination swapped?"),
+            ),
+            Err(e) => diags.push(Diagnostic::new(c.src_span.clone(), e.to_string()).hint("check the connection")),
+        }
+    }
+    g
+}

@@ -1,0 +1,825 @@
+//! The rig document: what a rig file says, before node types are consulted.
+//!
+//! [`read_document`] turns the parsed [`Node`] tree into a [`RigDocument`]
+//! (header, nodes with raw attribute values, connections, component
+//! definitions, `Use`s and `set` overrides), collecting every structural
+//! error. [`print_document`] writes a document back as canonical text.
+
+use std::collections::HashMap;
+use std::fmt::Write as _;
+use std::path::Path;
+use std::sync::Arc;
+
+use super::diag::{Diagnostic, Diagnostics, Span};
+use super::mirror::Plane;
+use super::parse::{Ast, Item, Node};
+use crate::error::nearest;
+
+/// A node as written: name, type, parent and raw attribute values.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NodeDecl {
+    /// The node name.
+    pub name: String,
+    /// Where the name is.
+    pub name_span: Span,
+    /// The node type.
+    pub type_name: String,
+    /// Where the type is.
+    pub type_span: Span,
+    /// `parent: "name"`, with the position of the name.
+    pub parent: Option<(String, Span)>,
+    /// `attribute: value` fields in file order (without `parent`).
+    pub fields: Vec<(String, Span, Node)>,
+}
+
+/// A connection as written: `"src.attr -> dst.attr"` or `("src.attr", "dst.attr")`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConnDecl {
+    /// Source plug path.
+    pub src: String,
+    /// Destination plug path.
+    pub dst: String,
+    /// Where the source path starts.
+    pub src_span: Span,
+    /// Where the destination path starts.
+    pub dst_span: Span,
+    /// Where the entry starts.
+    pub span: Span,
+}
+
+/// A `"node.attr": value` override.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SetDecl {
+    /// The plug path.
+    pub path: String,
+    /// Where the path is.
+    pub span: Span,
+    /// The raw value.
+    pub value: Node,
+}
+
+/// A component instantiation.
+#[derive(Clone, Debug, PartialEq)]
+pub struct UseDecl {
+    /// Where the `Use` starts.
+    pub span: Span,
+    /// `component: "leg"`.
+    pub component: Option<(String, Span)>,
+    /// `file: "parts/arm.ron"`, relative to the including file.
+    pub file: Option<(String, Span)>,
+    /// `prefix: "L_"` (default empty).
+    pub prefix: String,
+    /// `rename: [("_L", "_R")]`; `None` means the default (`_L`→`_R` when mirroring).
+    pub rename: Option<Vec<(String, String)>>,
+    /// `mirror: YZ` (or `true` for YZ).
+    pub mirror: Option<Plane>,
+    /// Per-use values, by the component's own node names (applied before mirroring).
+    pub set: Vec<SetDecl>,
+}
+
+impl UseDecl {
+    /// The rename pairs in effect.
+    pub fn renames(&self) -> Vec<(String, String)> {
+        match (&self.rename, self.mirror) {
+            (Some(r), _) => r.clone(),
+            (None, Some(_)) => vec![("_L".into(), "_R".into())],
+            (None, None) => Vec::new(),
+        }
+    }
+}
+
+/// Nodes, connections, uses and overrides: the body of a rig or a component.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Body {
+    /// Nodes in file order.
+    pub nodes: Vec<NodeDecl>,
+    /// Connections in file order.
+    pub connections: Vec<ConnDecl>,
+    /// Component instantiations in file order.
+    pub uses: Vec<UseDecl>,
+    /// `set` overrides in file order.
+    pub set: Vec<SetDecl>,
+}
+
+/// A component defined inside a rig file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ComponentDef {
+    /// Its name.
+    pub name: String,
+    /// Where the name is.
+    pub span: Span,
+    /// Its body.
+    pub body: Body,
+}
+
+/// A rig file as written, plus (after loading) what each top-level `Use`
+/// created, so [`save_rig`](super::save_rig) can keep components unexpanded.
+#[derive(Clone, Debug, Default)]
+pub struct RigDocument {
+    /// The file the document was read from.
+    pub path: Option<Arc<Path>>,
+    /// `name: "arm"`.
+    pub name: Option<String>,
+    /// `fps: 24.0`.
+    pub fps: Option<f64>,
+    /// `frames: (1, 48)`.
+    pub frames: Option<(f64, f64)>,
+    /// Component definitions in file order.
+    pub components: Vec<ComponentDef>,
+    /// Nodes, connections, uses and overrides.
+    pub body: Body,
+    /// Filled by the loader: what each top-level use created.
+    pub(crate) records: Vec<super::build::UseRecord>,
+}
+
+impl RigDocument {
+    /// An empty document named `name` (for saving a graph built in code).
+    pub fn new(name: &str) -> Self {
+        RigDocument {
+            name: Some(name.to_string()),
+            ..Default::default()
+        }
+    }
+
+    /// The component named `name`.
+    pub fn component(&self, name: &str) -> Option<&ComponentDef> {
+        self.components.iter().find(|c| c.name == name)
+    }
+}
+
+const RIG_FIELDS: [&str; 8] = ["name", "fps", "frames", "nodes", "connections", "components", "uses", "set"];
+const BODY_FIELDS: [&str; 4] = ["nodes", "connections", "uses", "set"];
+const USE_FIELDS: [&str; 6] = ["component", "file", "prefix", "rename", "mirror", "set"];
+
+struct Reader<'a> {
+    diags: &'a mut Diagnostics,
+}
+
+fn example_rig() -> &'static str {
+    "Rig(name: \"arm\", nodes: { \"root\": joint() }, connections: [])"
+}
+
+impl Reader<'_> {
+    fn err(&mut self, span: &Span, msg: impl Into<String>, hint: impl Into<String>) {
+        self.diags.push(Diagnostic::new(span.clone(), msg).hint(hint));
+    }
+
+    fn string(&mut self, n: &Node, what: &str) -> Option<String> {
+        match &n.kind {
+            Ast::Str { value, .. } => Some(value.clone()),
+            other => {
+                self.err(
+                    &n.span,
+                    format!("{what} must be a string, found {}", other.describe()),
+                    format!("write it in double quotes, e.g. {what}: \"name\""),
+                );
+                None
+            }
+        }
+    }
+
+    fn fields<'n>(&mut self, n: &'n Node, allowed: &[&str], what: &str) -> Vec<(&'n str, &'n Span, &'n Node)> {
+        let mut out = Vec::new();
+        let items: &[Item] = match &n.kind {
+            Ast::Group { items, .. } => items,
+            other => {
+                self.err(
+                    &n.span,
+                    format!("{what} must be a struct `( .. )`, found {}", other.describe()),
+                    format!("e.g. {}", example_rig()),
+                );
+                return out;
+            }
+        };
+        let mut seen: HashMap<&str, &Span> = HashMap::new();
+        for it in items {
+            let Some((k, ks)) = &it.key else {
+                self.err(&it.value.span, format!("{what} entries need a field name"), "write `name: value`");
+                continue;
+            };
+            if !allowed.contains(&k.as_str()) {
+                let hint = match nearest(k, allowed.iter().copied()) {
+                    Some(s) => format!("did you mean `{s}`? {what} fields are: {}", allowed.join(", ")),
+                    None => format!("{what} fields are: {}", allowed.join(", ")),
+                };
+                self.err(ks, format!("unknown field `{k}` in {what}"), hint);
+                continue;
+            }
+            if let Some(first) = seen.get(k.as_str()) {
+                self.diags.push(
+                    Diagnostic::new(ks.clone(), format!("field `{k}` is given twice"))
+                        .hint("keep one of them")
+                        .note((*first).clone(), "first given here"),
+                );
+                continue;
+            }
+            seen.insert(k, ks);
+            out.push((k.as_str(), ks, &it.value));
+        }
+        out
+    }
+
+    fn body(&mut self, fields: &[(&str, &Span, &Node)]) -> Body {
+        let mut b = Body::default();
+        for &(k, _, v) in fields {
+            match k {
+                "nodes" => b.nodes = self.nodes(v),
+                "connections" => b.connections = self.connections(v),
+                "uses" => b.uses = self.uses(v),
+                "set" => b.set = self.sets(v, "set"),
+                _ => {}
+            }
+        }
+        b
+    }
+
+    fn nodes(&mut self, n: &Node) -> Vec<NodeDecl> {
+        let Ast::Map(entries) = &n.kind else {
+            self.err(
+                &n.span,
+                format!("`nodes` must be a map, found {}", n.kind.describe()),
+                "write nodes as { \"name\": type(attribute: value, ..), .. }",
+            );
+            return Vec::new();
+        };
+        let mut out: Vec<NodeDecl> = Vec::new();
+        let mut seen: HashMap<String, Span> = HashMap::new();
+        for (k, v) in entries {
+            let Some(name) = k.kind.as_str().map(str::to_string) else {
+                self.err(
+                    &k.span,
+                    format!("a node name must be a string, found {}", k.kind.describe()),
+                    "write \"hip_L\": joint(..)",
+                );
+                continue;
+            };
+            if let Some(first) = seen.get(&name) {
+                self.diags.push(
+                    Diagnostic::new(k.span.clone(), format!("duplicate node name `{name}`"))
+                        .hint("node names must be unique; rename one of them")
+                        .note(first.clone(), "first defined here"),
+                );
+                continue;
+            }
+            seen.insert(name.clone(), k.span.clone());
+            let Ast::Group { name: Some(ty), items } = &v.kind else {
+                self.err(
+                    &v.span,
+                    format!("node `{name}` needs a type, found {}", v.kind.describe()),
+                    "write the node as type(attribute: value, ..), e.g. joint(translate: (0.0, 1.0, 0.0))",
+                );
+                continue;
+            };
+            let mut decl = NodeDecl {
+                name,
+                name_span: k.span.clone(),
+                type_name: ty.clone(),
+                type_span: v.span.clone(),
+                parent: None,
+                fields: Vec::new(),
+            };
+            let mut fseen: HashMap<&str, &Span> = HashMap::new();
+            for it in items {
+                let Some((f, fs)) = &it.key else {
+                    self.err(
+                        &it.value.span,
+                        "node attributes need a name",
+                        "write attribute: value, e.g. translate: (0.0, 1.0, 0.0)",
+                    );
+                    continue;
+                };
+                if let Some(first) = fseen.get(f.as_str()) {
+                    self.diags.push(
+                        Diagnostic::new(fs.clone(), format!("attribute `{f}` is given twice"))
+                            .hint("keep one of them")
+                            .note((*first).clone(), "first given here"),
+                    );
+                    continue;
+                }
+                fseen.insert(f, fs);
+                if f == "parent" {
+                    if let Some(p) = self.string(&it.value, "parent") {
+                        decl.parent = Some((p, it.value.span.shifted(1)));
+                    }
+                } else {
+                    decl.fields.push((f.clone(), fs.clone(), it.value.clone()));
+                }
+            }
+            out.push(decl);
+        }
+        out
+    }
+
+    fn connections(&mut self, n: &Node) -> Vec<ConnDecl> {
+        let Ast::List(entries) = &n.kind else {
+            self.err(
+                &n.span,
+                format!("`connections` must be a list, found {}", n.kind.describe()),
+                "write connections as [\"a.output -> b.input\", ..]",
+            );
+            return Vec::new();
+        };
+        let mut out = Vec::new();
+        for e in entries {
+            match &e.kind {
+                Ast::Str { value, exact } => {
+                    let Some(at) = value.find("->") else {
+                        self.err(
+                            &e.span,
+                            format!("connection {value:?} has no `->`"),
+                            "write connections as \"src.attr -> dst.attr\"",
+                        );
+                        continue;
+                    };
+                    let (l, r) = (&value[..at], &value[at + 2..]);
+                    let (lt, rt) = (l.trim(), r.trim());
+                    let col = |off: usize| {
+                        if *exact {
+                            e.span.shifted(1 + value[..off].chars().count())
+                        } else {
+                            e.span.clone()
+                        }
+                    };
+                    let loff = l.len() - l.trim_start().len();
+                    let roff = at + 2 + (r.len() - r.trim_start().len());
+                    out.push(ConnDecl {
+                        src: lt.to_string(),
+                        dst: rt.to_string(),
+                        src_span: col(loff),
+                        dst_span: col(roff),
+                        span: e.span.clone(),
+                    });
+                }
+                Ast::Group { name: None, items } if items.len() == 2 && items.iter().all(|i| i.key.is_none()) => {
+                    let (a, b) = (&items[0].value, &items[1].value);
+                    let (Some(s), Some(d)) = (self.string(a, "a connection source"), self.string(b, "a connection destination"))
+                    else {
+                        continue;
+                    };
+                    out.push(ConnDecl {
+                        src: s.trim().to_string(),
+                        dst: d.trim().to_string(),
+                        src_span: a.span.shifted(1),
+                        dst_span: b.span.shifted(1),
+                        span: e.span.clone(),
+                    });
+                }
+                other => self.err(
+                    &e.span,
+                    format!("a connection must be a string or a pair of strings, found {}", other.describe()),
+                    "write \"src.attr -> dst.attr\" or (\"src.attr\", \"dst.attr\")",
+                ),
+            }
+        }
+        out
+    }
+
+    fn sets(&mut self, n: &Node, what: &str) -> Vec<SetDecl> {
+        let Ast::Map(entries) = &n.kind else {
+            self.err(
+                &n.span,
+                format!("`{what}` must be a map, found {}", n.kind.describe()),
+                "write overrides as { \"node.attribute\": value, .. }",
+            );
+            return Vec::new();
+        };
+        let mut out = Vec::new();
+        for (k, v) in entries {
+            if let Some(p) = self.string(k, "an override key") {
+                out.push(SetDecl {
+                    path: p,
+                    span: k.span.shifted(1),
+                    value: v.clone(),
+                });
+            }
+        }
+        out
+    }
+
+    fn uses(&mut self, n: &Node) -> Vec<UseDecl> {
+        let Ast::List(entries) = &n.kind else {
+            self.err(
+                &n.span,
+                format!("`uses` must be a list, found {}", n.kind.describe()),
+                "write uses as [Use(component: \"leg\"), ..]",
+            );
+            return Vec::new();
+        };
+        let mut out = Vec::new();
+        for e in entries {
+            if !matches!(&e.kind, Ast::Group { name: Some(n), .. } if n == "Use") {
+                self.err(
+                    &e.span,
+                    format!("expected `Use(..)`, found {}", e.kind.describe()),
+                    "write Use(component: \"leg\", mirror: YZ) or Use(file: \"parts/arm.ron\")",
+                );
+                continue;
+            }
+            let mut u = UseDecl {
+                span: e.span.clone(),
+                component: None,
+                file: None,
+                prefix: String::new(),
+                rename: None,
+                mirror: None,
+                set: Vec::new(),
+            };
+            for (k, ks, v) in self.fields(e, &USE_FIELDS, "Use") {
+                match k {
+                    "component" => u.component = self.string(v, "component").map(|s| (s, v.span.clone())),
+                    "file" => u.file = self.string(v, "file").map(|s| (s, v.span.clone())),
+                    "prefix" => u.prefix = self.string(v, "prefix").unwrap_or_default(),
+                    "rename" => u.rename = self.rename(v),
+                    "mirror" => {
+                        u.mirror = match &v.kind {
+                            Ast::Bool(true) => Some(Plane::YZ),
+                            Ast::Bool(false) => None,
+                            Ast::Ident(s) | Ast::Str { value: s, .. } if s == "None" => None,
+                            Ast::Ident(s) | Ast::Str { value: s, .. } if Plane::parse(s).is_some() => Plane::parse(s),
+                            other => {
+                                self.err(
+                                    &v.span,
+                                    format!("mirror must be YZ, XY, XZ or false, found {}", other.describe()),
+                                    "mirror: YZ mirrors left to right (negates X)",
+                                );
+                                None
+                            }
+                        }
+                    }
+                    "set" => u.set = self.sets(v, "set"),
+                    _ => {}
+                }
+                let _ = ks;
+            }
+            if u.component.is_none() && u.file.is_none() {
+                self.err(
+                    &e.span,
+                    "a Use needs `component:` or `file:`",
+                    "e.g. Use(component: \"leg\") or Use(file: \"parts/arm.ron\")",
+                );
+                continue;
+            }
+            out.push(u);
+        }
+        out
+    }
+
+    fn rename(&mut self, v: &Node) -> Option<Vec<(String, String)>> {
+        let hint = "write rename: [(\"_L\", \"_R\")]";
+        let Ast::List(items) = &v.kind else {
+            self.err(&v.span, format!("rename must be a list of pairs, found {}", v.kind.describe()), hint);
+            return None;
+        };
+        let mut out = Vec::new();
+        for it in items {
+            match it.kind.tuple_items().as_deref() {
+                Some([a, b]) => match (&a.kind, &b.kind) {
+                    (Ast::Str { value: x, .. }, Ast::Str { value: y, .. }) if !x.is_empty() => {
+                        out.push((x.clone(), y.clone()))
+                    }
+                    _ => self.err(&it.span, "a rename pair is two strings, the first not empty", hint),
+                },
+                _ => self.err(&it.span, format!("expected a pair (\"from\", \"to\"), found {}", it.kind.describe()), hint),
+            }
+        }
+        Some(out)
+    }
+}
+
+/// Reads a parsed rig file into a document, adding structural errors to `diags`.
+pub fn read_document(root: &Node, path: &Arc<Path>, diags: &mut Diagnostics) -> RigDocument {
+    let mut doc = RigDocument {
+        path: Some(path.clone()),
+        ..Default::default()
+    };
+    let mut r = Reader { diags };
+    if let Ast::Group { name: Some(n), .. } = &root.kind {
+        if n != "Rig" {
+            r.err(&root.span, format!("a rig file must start with `Rig(`, found `{n}(`"), format!("e.g. {}", example_rig()));
+        }
+    }
+    let fields = r.fields(root, &RIG_FIELDS, "Rig");
+    for &(k, _, v) in &fields {
+        match k {
+            "name" => doc.name = r.string(v, "name"),
+            "fps" => match v.kind.as_f64() {
+                Some(x) if x > 0.0 => doc.fps = Some(x),
+                _ => r.err(&v.span, format!("fps must be a positive number, found {}", v.kind.describe()), "e.g. fps: 24.0"),
+            },
+            "frames" => match v.kind.tuple_items().as_deref() {
+                Some([a, b]) if a.kind.as_f64().is_some() && b.kind.as_f64().is_some() => {
+                    doc.frames = Some((a.kind.as_f64().unwrap_or(0.0), b.kind.as_f64().unwrap_or(0.0)))
+                }
+                _ => r.err(
+                    &v.span,
+                    format!("frames must be a (first, last) pair of numbers, found {}", v.kind.describe()),
+                    "e.g. frames: (1, 48)",
+                ),
+            },
+            "components" => {
+                let Ast::Map(entries) = &v.kind else {
+                    r.err(
+                        &v.span,
+                        format!("`components` must be a map, found {}", v.kind.describe()),
+                        "write components as { \"leg\": (nodes: {..}, connections: [..]) }",
+                    );
+                    continue;
+                };
+                for (ck, cv) in entries {
+                    let Some(name) = r.string(ck, "a component name") else { continue };
+                    if let Some(first) = doc.components.iter().find(|c| c.name == name) {
+                        let first = first.span.clone();
+                        r.diags.push(
+                            Diagnostic::new(ck.span.clone(), format!("component `{name}` is defined twice"))
+                                .hint("rename one of them")
+                                .note(first, "first defined here"),
+                        );
+                        continue;
+                    }
+                    let cf = r.fields(cv, &BODY_FIELDS, "a component");
+                    let body = r.body(&cf);
+                    doc.components.push(ComponentDef {
+                        name,
+                        span: ck.span.clone(),
+                        body,
+                    });
+                }
+            }
+            _ => {}
+        }
+    }
+    doc.body = r.body(&fields);
+    doc
+}
+
+// ---------------------------------------------------------------- printing
+
+/// Appends `s` as a RON string literal.
+pub fn quote(out: &mut String, s: &str) {
+    out.push('"');
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            '\n' => out.push_str("\\n"),
+            '\t' => out.push_str("\\t"),
+            '\r' => out.push_str("\\r"),
+            c if c.is_control() => {
+                let _ = write!(out, "\\u{{{:x}}}", c as u32);
+            }
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+}
+
+/// Prints a value on one line.
+pub fn print_ast(out: &mut String, a: &Ast) {
+    match a {
+        Ast::Bool(b) => {
+            let _ = write!(out, "{b}");
+        }
+        Ast::Int(i) => {
+            let _ = write!(out, "{i}");
+        }
+        Ast::Float(x) => {
+            let _ = write!(out, "{x:?}");
+        }
+        Ast::Str { value, .. } => quote(out, value),
+        Ast::Ident(s) => out.push_str(s),
+        Ast::List(v) => {
+            out.push('[');
+            for (i, x) in v.iter().enumerate() {
+                if i > 0 {
+                    out.push_str(", ");
+                }
+                print_ast(out, &x.kind);
+            }
+            out.push(']');
+        }
+        Ast::Map(v) => {
+            out.push('{');
+            for (i, (k, x)) in v.iter().enumerate() {
+                if i > 0 {
+                    out.push_str(", ");
+                }
+                print_ast(out, &k.kind);
+                out.push_str(": ");
+                print_ast(out, &x.kind);
+            }
+            out.push('}');
+        }
+        Ast::Group { name, items } => {
+            if let Some(n) = name {
+                out.push_str(n);
+            }
+            out.push('(');
+            for (i, it) in items.iter().enumerate() {
+                if i > 0 {
+                    out.push_str(", ");
+                }
+                if let Some((k, _)) = &it.key {
+                    out.push_str(k);
+                    out.push_str(": ");
+                }
+                print_ast(out, &it.value.kind);
+            }
+            out.push(')');
+        }
+    }
+}
+
+/// A node ready to print: type, parent and attribute values as values.
+pub struct PrintNode<'a> {
+    /// Name.
+    pub name: &'a str,
+    /// Type.
+    pub type_name: &'a str,
+    /// Parent name.
+    pub parent: Option<&'a str>,
+    /// Attributes.
+    pub fields: Vec<(String, Ast)>,
+}
+
+const LINE: usize = 110;
+
+fn print_node(out: &mut String, ind: &str, n: &PrintNode<'_>) {
+    let mut parts: Vec<String> = Vec::new();
+    if let Some(p) = n.parent {
+        let mut s = String::from("parent: ");
+        quote(&mut s, p);
+        parts.push(s);
+    }
+    for (k, v) in &n.fields {
+        let mut s = format!("{k}: ");
+        print_ast(&mut s, v);
+        parts.push(s);
+    }
+    let mut head = String::new();
+    quote(&mut head, n.name);
+    let one = format!("{ind}{head}: {}({}),", n.type_name, parts.join(", "));
+    if one.chars().count() <= LINE || parts.len() <= 1 {
+        out.push_str(&one);
+        out.push('\n');
+    } else {
+        let _ = writeln!(out, "{ind}{head}: {}(", n.type_name);
+        for p in parts {
+            let _ = writeln!(out, "{ind}    {p},");
+        }
+        let _ = writeln!(out, "{ind}),");
+    }
+}
+
+fn conn_text(src: &str, dst: &str) -> String {
+    let mut s = String::new();
+    quote(&mut s, &format!("{src} -> {dst}"));
+    s
+}
+
+/// Prints the uses list entries.
+fn print_use(u: &UseDecl) -> String {
+    let mut parts = Vec::new();
+    let q = |s: &str| {
+        let mut o = String::new();
+        quote(&mut o, s);
+        o
+    };
+    if let Some((c, _)) = &u.component {
+        parts.push(format!("component: {}", q(c)));
+    }
+    if let Some((f, _)) = &u.file {
+        parts.push(format!("file: {}", q(f)));
+    }
+    if !u.prefix.is_empty() {
+        parts.push(format!("prefix: {}", q(&u.prefix)));
+    }
+    if let Some(p) = u.mirror {
+        parts.push(format!("mirror: {}", p.name()));
+    }
+    let default_rename = UseDecl { rename: None, ..u.clone() }.renames();
+    if let Some(r) = &u.rename {
+        if *r != default_rename {
+            let pairs: Vec<String> = r.iter().map(|(a, b)| format!("({}, {})", q(a), q(b))).collect();
+            parts.push(format!("rename: [{}]", pairs.join(", ")));
+        }
+    }
+    if !u.set.is_empty() {
+        let entries: Vec<String> = u
+            .set
+            .iter()
+            .map(|s| {
+                let mut o = q(&s.path);
+                o.push_str(": ");
+                print_ast(&mut o, &s.value.kind);
+                o
+            })
+            .collect();
+        parts.push(format!("set: {{{}}}", entries.join(", ")));
+    }
+    format!("Use({})", parts.join(", "))
+}
+
+/// The sections of a body, ready to print.
+pub struct PrintBody<'a> {
+    /// `uses` entries.
+    pub uses: Vec<UseDecl>,
+    /// Nodes.
+    pub nodes: Vec<PrintNode<'a>>,
+    /// Connections `(src, dst)`.
+    pub connections: Vec<(String, String)>,
+    /// Overrides `(path, value)`.
+    pub set: Vec<(String, Ast)>,
+}
+
+fn print_body(out: &mut String, ind: &str, b: &PrintBody<'_>) {
+    let inner = format!("{ind}    ");
+    if !b.uses.is_empty() {
+        let _ = writeln!(out, "{ind}uses: [");
+        for u in &b.uses {
+            let _ = writeln!(out, "{inner}{},", print_use(u));
+        }
+        let _ = writeln!(out, "{ind}],");
+    }
+    if !b.nodes.is_empty() {
+        let _ = writeln!(out, "{ind}nodes: {{");
+        for n in &b.nodes {
+            print_node(out, &inner, n);
+        }
+        let _ = writeln!(out, "{ind}}},");
+    }
+    if !b.connections.is_empty() {
+        let _ = writeln!(out, "{ind}connections: [");
+        for (s, d) in &b.connections {
+            let _ = writeln!(out, "{inner}{},", conn_text(s, d));
+        }
+        let _ = writeln!(out, "{ind}],");
+    }
+    if !b.set.is_empty() {
+        let _ = writeln!(out, "{ind}set: {{");
+        for (p, v) in &b.set {
+            let mut s = String::new();
+            quote(&mut s, p);
+            s.push_str(": ");
+            print_ast(&mut s, v);
+            let _ = writeln!(out, "{inner}{s},");
+        }
+        let _ = writeln!(out, "{ind}}},");
+    }
+}
+
+/// The printable form of a component body (kept as written, canonically spaced).
+pub fn component_print_body(b: &Body) -> PrintBody<'_> {
+    PrintBody {
+        uses: b.uses.clone(),
+        nodes: b
+            .nodes
+            .iter()
+            .map(|n| PrintNode {
+                name: &n.name,
+                type_name: &n.type_name,
+                parent: n.parent.as_ref().map(|p| p.0.as_str()),
+                fields: n.fields.iter().map(|(k, _, v)| (k.clone(), v.kind.clone())).collect(),
+            })
+            .collect(),
+        connections: b.connections.iter().map(|c| (c.src.clone(), c.dst.clone())).collect(),
+        set: b.set.iter().map(|s| (s.path.clone(), s.value.kind.clone())).collect(),
+    }
+}
+
+fn num(x: f64) -> String {
+    if x.fract() == 0.0 && x.abs() < 1e15 {
+        format!("{}", x as i64)
+    } else {
+        format!("{x:?}")
+    }
+}
+
+/// Prints a whole rig: header, components, then `main`.
+pub fn print_document(doc: &RigDocument, main: &PrintBody<'_>) -> String {
+    let mut out = String::from("Rig(\n");
+    if let Some(n) = &doc.name {
+        out.push_str("    name: ");
+        quote(&mut out, n);
+        out.push_str(",\n");
+    }
+    if let Some(f) = doc.fps {
+        let _ = writeln!(out, "    fps: {f:?},");
+    }
+    if let Some((a, b)) = doc.frames {
+        let _ = writeln!(out, "    frames: ({}, {}),", num(a), num(b));
+    }
+    if !doc.components.is_empty() {
+        out.push_str("    components: {\n");
+        for c in &doc.components {
+            out.push_str("        ");
+            quote(&mut out, &c.name);
+            out.push_str(": (\n");
+            print_body(&mut out, "            ", &component_print_body(&c.body));
+            out.push_str("        ),\n");
+        }
+        out.push_str("    },\n");
+    }
+    print_body(&mut out, "    ", main);
+    out.push_str(")\n");
+    out
+}

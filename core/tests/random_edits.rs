@@ -1,0 +1,154 @@
+//! Property tests: any sequence of random edits leaves a valid acyclic graph,
+//! failed edits change nothing, and lazy evaluation equals compiled
+//! evaluation bit for bit.
+
+use std::sync::Arc;
+
+use proptest::prelude::*;
+use sinew_core::{testing, AttrType, CompileOptions, Direction, Graph, Instance, Plug, Program, Time, Value};
+
+const TYPES: [&str; 6] = ["add", "clampPositive", "twoGroups", "vecScale", "sumMulti", "timeSource"];
+
+#[derive(Clone, Debug)]
+enum Op {
+    Add(usize),
+    Connect { src: (usize, usize, u8), dst: (usize, usize, u8) },
+    Disconnect(usize),
+    Set { node: usize, attr: usize, value: f64, index: u8 },
+    Remove(usize),
+    Time(i32),
+    Get { node: usize, attr: usize },
+}
+
+fn op() -> impl Strategy<Value = Op> {
+    prop_oneof![
+        3 => (0..TYPES.len()).prop_map(Op::Add),
+        6 => ((0..64usize, 0..8usize, 0..8u8), (0..64usize, 0..8usize, 0..8u8)).prop_map(|(src, dst)| Op::Connect { src, dst }),
+        1 => (0..64usize).prop_map(Op::Disconnect),
+        3 => (0..64usize, 0..8usize, -10.0..10.0f64, 0..4u8).prop_map(|(node, attr, value, index)| Op::Set { node, attr, value, index }),
+        1 => (0..64usize).prop_map(Op::Remove),
+        1 => (-50..50i32).prop_map(Op::Time),
+        2 => (0..64usize, 0..8usize).prop_map(|(node, attr)| Op::Get { node, attr }),
+    ]
+}
+
+/// Picks a plug of `node` by a (attr, element/component selector) choice.
+fn pick(g: &Graph, node: usize, attr: usize, sel: u8, want_input: Option<bool>) -> Option<Plug> {
+    let ids = g.nodes();
+    let id = *ids.get(node % ids.len().max(1))?;
+    let spec = g.node_spec(id)?;
+    let attrs: Vec<_> = spec
+        .attr_ids()
+        .filter(|&a| want_input.is_none_or(|w| spec.attr(a).is_input() == w))
+        .collect();
+    let a = *attrs.get(attr % attrs.len().max(1))?;
+    let aspec = spec.attr(a);
+    let mut p = Plug::new(id, a);
+    if aspec.multi {
+        p = p.at((sel % 4) as u32);
+    }
+    if aspec.ty == AttrType::Vec3 && sel >= 4 {
+        p = p.component(sel % 3);
+    }
+    Some(p)
+}
+
+/// Everything authored about a graph, to check that failed edits change nothing.
+fn fingerprint(g: &Graph) -> String {
+    let mut s = String::new();
+    for id in g.nodes() {
+        s.push_str(&format!("{}:{}:{:?};", g.node_name(id).unwrap_or("?"), g.node_type(id).unwrap_or("?"), g.parent_of(id)));
+        let spec = g.node_spec(id).expect("live node");
+        for a in spec.attr_ids() {
+            for i in g.elements(id, a) {
+                let p = if spec.attr(a).multi { Plug::new(id, a).at(i) } else { Plug::new(id, a) };
+                if spec.attr(a).direction == Direction::Input {
+                    s.push_str(&format!("{}={:?};", g.plug_name(p), g.stored(p)));
+                }
+            }
+        }
+    }
+    for (a, b) in g.connections() {
+        s.push_str(&format!("{}->{};", g.plug_name(a), g.plug_name(b)));
+    }
+    s
+}
+
+fn apply(g: &mut Graph, op: &Op, counter: &mut usize) {
+    match *op {
+        Op::Add(t) => {
+            *counter += 1;
+            g.add_node(TYPES[t], &format!("n{counter}")).expect("add node");
+        }
+        Op::Connect { src, dst } => {
+            let (Some(s), Some(d)) = (pick(g, src.0, src.1, src.2, None), pick(g, dst.0, dst.1, dst.2, Some(true))) else {
+                return;
+            };
+            let before = fingerprint(g);
+            if g.connect(s, d).is_err() {
+                assert_eq!(before, fingerprint(g), "a failed connect changed the graph");
+            }
+        }
+        Op::Disconnect(i) => {
+            let c = g.connections();
+            if let Some(&(s, d)) = c.get(i % c.len().max(1)) {
+                g.disconnect(s, d).expect("disconnect an existing connection");
+            }
+        }
+        Op::Set { node, attr, value, index } => {
+            let Some(p) = pick(g, node, attr, index, Some(true)) else { return };
+            let v = match g.plug_type(p).expect("plug type") {
+                AttrType::Float => Value::Float(value),
+                AttrType::Vec3 => Value::Vec3(glam::DVec3::new(value, -value, value * 0.5)),
+                _ => return,
+            };
+            let before = fingerprint(g);
+            if g.set(p, v).is_err() {
+                assert_eq!(before, fingerprint(g), "a failed set changed the graph");
+            }
+        }
+        Op::Remove(n) => {
+            let ids = g.nodes();
+            if let Some(&id) = ids.get(n % ids.len().max(1)) {
+                g.remove_node(id).expect("remove node");
+            }
+        }
+        Op::Time(f) => g.set_time(Time::new(f as f64, 24.0)),
+        Op::Get { node, attr } => {
+            if let Some(p) = pick(g, node, attr, 0, Some(false)) {
+                g.get(p).expect("evaluation of test nodes cannot fail in range");
+            }
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 400, failure_persistence: None, ..ProptestConfig::default() })]
+
+    #[test]
+    fn random_edits_keep_the_graph_valid_and_lazy_equals_compiled(ops in proptest::collection::vec(op(), 1..60)) {
+        let mut g = Graph::new(testing::registry().expect("registry"));
+        let mut counter = 0;
+        for o in &ops {
+            apply(&mut g, o, &mut counter);
+            if let Err(e) = g.check_invariants() {
+                panic!("after {o:?}: {e}");
+            }
+        }
+        let program = Arc::new(Program::compile(&g, &CompileOptions::default()).expect("compile"));
+        let mut inst = Instance::new(program.clone());
+        inst.evaluate(g.time()).expect("compiled evaluation");
+        for id in g.nodes() {
+            let spec = g.node_spec(id).expect("live").clone();
+            for a in spec.attr_ids() {
+                for i in g.elements(id, a) {
+                    let p = if spec.attr(a).multi { Plug::new(id, a).at(i) } else { Plug::new(id, a) };
+                    let name = g.plug_name(p);
+                    let lazy = g.get(p).expect("lazy get");
+                    let compiled = inst.get(&program.handle(&name).expect("handle"));
+                    prop_assert!(lazy.same_bits(&compiled), "{name}: lazy {lazy} != compiled {compiled}");
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,442 @@
+//! Shared plumbing of the IK node plugins: the chain's rest-data inputs, the FK/IK blend and the per-joint outputs.
+//!
+//! Every IK node (`ikRP`, `ikSC`, `ikSpline`) declares the same chain inputs
+//! ([`ChainInputs`]) and outputs ([`ChainOutputs`]); see the [module docs](super) for
+//! the attribute list and the wiring pattern.
+
+use std::sync::Arc;
+
+use glam::{DMat4, DQuat, DVec3};
+use sinew_core::{ComputeContext, ComputeError, Input, MultiInput, MultiOutput, Output, SpecBuilder, Unit};
+
+use super::chain::{chain_world_positions, Chain, ChainJoint, IkError, IkSolution, IkStatus};
+use crate::transform::math::{euler_to_quat, quat_to_euler_closest, RotateOrder};
+
+/// `status` output: the end effector reached the goal.
+pub const STATUS_REACHED: i64 = 0;
+/// `status` output: the goal is out of reach (or soft IK / a stretch cap held the chain short).
+pub const STATUS_UNREACHABLE: i64 = 1;
+/// `status` output: an iterative solver ran out of iterations.
+pub const STATUS_NOT_CONVERGED: i64 = 2;
+/// `status` output: an input was unusable (NaN through a connection, singular parent, bad
+/// curve); the outputs are the rest pose.
+pub const STATUS_INVALID: i64 = 3;
+
+/// Numeric code of a solver status for the `status` output.
+pub fn status_code(status: &IkStatus) -> i64 {
+    match status {
+        IkStatus::Reached => STATUS_REACHED,
+        IkStatus::Unreachable => STATUS_UNREACHABLE,
+        IkStatus::NotConverged => STATUS_NOT_CONVERGED,
+        IkStatus::Invalid(_) => STATUS_INVALID,
+    }
+}
+
+/// Degrees to radians for a vec3.
+fn rad(v: DVec3) -> DVec3 {
+    v * (std::f64::consts::PI / 180.0)
+}
+
+/// Radians to degrees for a vec3.
+fn deg(v: DVec3) -> DVec3 {
+    v * (180.0 / std::f64::consts::PI)
+}
+
+/// `v` with non-finite components replaced by 0.
+pub(super) fn finite_or_zero(v: DVec3) -> DVec3 {
+    DVec3::select(v.is_finite_mask(), v, DVec3::ZERO)
+}
+
+/// One joint's rest data as read from the node (angles in degrees).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct JointData {
+    /// Logical index of the joint (the `[i]` of the multis).
+    pub index: u32,
+    /// `jointTranslate[i]`.
+    pub translate: DVec3,
+    /// `jointOrient[i]`, degrees.
+    pub orient: DVec3,
+    /// `jointRotateAxis[i]`, degrees.
+    pub rotate_axis: DVec3,
+    /// `jointRotateOrder[i]`.
+    pub order: RotateOrder,
+    /// `preferredAngle[i]`, degrees.
+    pub preferred: DVec3,
+    /// `fkRotate[i]`, degrees.
+    pub fk: DVec3,
+}
+
+/// The chain inputs of one compute, read and checked.
+#[derive(Clone, Debug)]
+pub(super) struct ChainRead {
+    /// `startParentMatrix`.
+    pub parent: DMat4,
+    /// Joints in logical-index order.
+    pub joints: Vec<JointData>,
+    /// `ikBlend` (unclamped as read).
+    pub ik_blend: f64,
+}
+
+impl ChainRead {
+    /// The first non-finite chain input, by attribute name.
+    pub fn non_finite(&self) -> Option<&'static str> {
+        if !self.parent.is_finite() {
+            return Some("startParentMatrix");
+        }
+        if !self.ik_blend.is_finite() {
+            return Some("ikBlend");
+        }
+        for j in &self.joints {
+            let checks = [
+                (j.translate, "jointTranslate"),
+                (j.orient, "jointOrient"),
+                (j.rotate_axis, "jointRotateAxis"),
+                (j.preferred, "preferredAngle"),
+                (j.fk, "fkRotate"),
+            ];
+            if let Some((_, name)) = checks.iter().find(|(v, _)| !v.is_finite()) {
+                return Some(name);
+            }
+        }
+        None
+    }
+
+    /// The solver's chain (angles converted to quaternions; non-finite values count as 0).
+    pub fn chain(&self) -> Chain {
+        Chain {
+            parent_world: if self.parent.is_finite() {
+                self.parent
+            } else {
+                DMat4::IDENTITY
+            },
+            joints: self
+                .joints
+                .iter()
+                .map(|j| ChainJoint {
+                    translate: finite_or_zero(j.translate),
+                    joint_orient: euler_to_quat(rad(j.orient), RotateOrder::Xyz),
+                    rotate_axis: euler_to_quat(rad(j.rotate_axis), RotateOrder::Xyz),
+                    preferred: euler_to_quat(rad(j.preferred), j.order),
+                })
+                .collect(),
+        }
+    }
+
+    /// The blend weight clamped to `[0, 1]` (non-finite counts as 1, but such input is
+    /// reported invalid before this is used).
+    pub fn blend(&self) -> f64 {
+        if self.ik_blend.is_finite() {
+            self.ik_blend.clamp(0.0, 1.0)
+        } else {
+            1.0
+        }
+    }
+}
+
+/// Handles of the chain inputs every IK node declares.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct ChainInputs {
+    start_parent_matrix: Input<DMat4>,
+    joint_translate: MultiInput<DVec3>,
+    joint_orient: MultiInput<DVec3>,
+    joint_rotate_axis: MultiInput<DVec3>,
+    joint_rotate_order: MultiInput<i64>,
+    preferred_angle: MultiInput<DVec3>,
+    fk_rotate: MultiInput<DVec3>,
+    ik_blend: Input<f64>,
+}
+
+impl ChainInputs {
+    /// Declares the chain inputs on `b`.
+    pub fn declare(b: &mut SpecBuilder) -> Self {
+        let start_parent_matrix = b.input("startParentMatrix", DMat4::IDENTITY);
+        b.attr_doc(
+            start_parent_matrix,
+            "world matrix of the start joint's parent (connect the start joint's parentMatrix)",
+        );
+        let joint_translate = b.multi_input("jointTranslate", DVec3::ZERO);
+        b.attr_doc(
+            joint_translate,
+            "per joint its rest local translate; the number of elements is the number of joints",
+        );
+        let joint_orient = b.multi_input("jointOrient", DVec3::ZERO);
+        b.attr_doc(joint_orient, "per joint its jointOrient (degrees, xyz)");
+        b.unit(joint_orient, Unit::Degrees);
+        let joint_rotate_axis = b.multi_input("jointRotateAxis", DVec3::ZERO);
+        b.attr_doc(joint_rotate_axis, "per joint its rotateAxis (degrees, xyz)");
+        b.unit(joint_rotate_axis, Unit::Degrees);
+        let joint_rotate_order = b.multi_input("jointRotateOrder", 0i64);
+        b.attr_doc(
+            joint_rotate_order,
+            "per joint its rotateOrder as Maya's index (0 xyz, 1 yzx, 2 zxy, 3 xzy, 4 yxz, 5 zyx)",
+        );
+        let preferred_angle = b.multi_input("preferredAngle", DVec3::ZERO);
+        b.attr_doc(
+            preferred_angle,
+            "per joint the rest rotation solves start from (degrees, the joint's rotate order)",
+        );
+        b.unit(preferred_angle, Unit::Degrees);
+        let fk_rotate = b.multi_input("fkRotate", DVec3::ZERO);
+        b.attr_doc(
+            fk_rotate,
+            "per joint the FK rotation blended with IK by ikBlend (degrees)",
+        );
+        b.unit(fk_rotate, Unit::Degrees);
+        let ik_blend = b.input("ikBlend", 1.0);
+        b.attr_doc(ik_blend, "0 = pure FK (fkRotate), 1 = pure IK; clamped to 0..1");
+        ChainInputs {
+            start_parent_matrix,
+            joint_translate,
+            joint_orient,
+            joint_rotate_axis,
+            joint_rotate_order,
+            preferred_angle,
+            fk_rotate,
+            ik_blend,
+        }
+    }
+
+    /// Reads the chain; fails when it has fewer than `min_joints` joints or a rotate order
+    /// is out of range (both are authoring mistakes the message explains).
+    pub fn read(&self, ctx: &ComputeContext<'_>, min_joints: usize, node: &str) -> Result<ChainRead, ComputeError> {
+        let n = ctx.multi_len(self.joint_translate);
+        if n < min_joints {
+            return Err(ComputeError::new(format!(
+                "{node} needs at least {min_joints} joints but jointTranslate has {n} element(s); \
+                 set jointTranslate[0..{min_joints}] to the chain's rest local translations"
+            )));
+        }
+        let mut joints = Vec::with_capacity(n);
+        for k in 0..n {
+            let Some((index, translate)) = ctx.multi_at(self.joint_translate, k) else {
+                break;
+            };
+            let order_index = ctx.get_at(self.joint_rotate_order, index).unwrap_or(0);
+            let order = RotateOrder::from_index(order_index).ok_or_else(|| {
+                ComputeError::new(format!(
+                    "jointRotateOrder[{index}] is {order_index}; use 0..5 (xyz, yzx, zxy, xzy, yxz, zyx)"
+                ))
+            })?;
+            joints.push(JointData {
+                index,
+                translate,
+                orient: ctx.get_at(self.joint_orient, index).unwrap_or(DVec3::ZERO),
+                rotate_axis: ctx.get_at(self.joint_rotate_axis, index).unwrap_or(DVec3::ZERO),
+                order,
+                preferred: ctx.get_at(self.preferred_angle, index).unwrap_or(DVec3::ZERO),
+                fk: ctx.get_at(self.fk_rotate, index).unwrap_or(DVec3::ZERO),
+            });
+        }
+        Ok(ChainRead {
+            parent: ctx.get(self.start_parent_matrix),
+            joints,
+            ik_blend: ctx.get(self.ik_blend),
+        })
+    }
+}
+
+/// The pose the node writes, before it is written.
+#[derive(Clone, Debug)]
+pub(super) struct OutPose {
+    /// Per joint `rotate`, degrees in the joint's rotate order.
+    pub rotate: Vec<DVec3>,
+    /// Per joint `translate` (the rest translate scaled by the parent bone's stretch).
+    pub translate: Vec<DVec3>,
+    /// Per joint the stretch factor of the bone from it to the next joint.
+    pub stretch: Vec<f64>,
+    /// World position of the last joint for this pose.
+    pub end_effector: DVec3,
+    /// `status` code.
+    pub status: i64,
+    /// Human-readable status.
+    pub message: String,
+}
+
+impl OutPose {
+    /// The rest pose for invalid input: `preferredAngle` (non-finite components 0),
+    /// rest translations, no stretch.
+    pub fn rest(read: &ChainRead, err: &IkError) -> Self {
+        let rotate: Vec<DVec3> = read.joints.iter().map(|j| finite_or_zero(j.preferred)).collect();
+        let translate: Vec<DVec3> = read.joints.iter().map(|j| finite_or_zero(j.translate)).collect();
+        let mut pose = OutPose {
+            stretch: vec![1.0; rotate.len()],
+            rotate,
+            translate,
+            end_effector: DVec3::ZERO,
+            status: STATUS_INVALID,
+            message: format!("invalid: {err}; outputs are the rest pose (preferredAngle)"),
+        };
+        pose.end_effector = pose.fk_end(read);
+        pose
+    }
+
+    /// The blended pose from a solution: per joint slerp from FK to IK by `ikBlend`,
+    /// converted to Euler angles closest to `fkRotate + (preferredAngle - fkRotate) * ikBlend`
+    /// (so IK output is continuous around the preferred pose). `ikBlend` 0 copies
+    /// `fkRotate` exactly. `root_translate` replaces the start joint's translate (spline).
+    pub fn blended(read: &ChainRead, sol: &IkSolution, root_translate: Option<DVec3>) -> Self {
+        if let IkStatus::Invalid(e) = &sol.status {
+            return Self::rest(read, e);
+        }
+        let w = read.blend();
+        let n = read.joints.len();
+        let mut rotate = Vec::with_capacity(n);
+        let mut stretch = Vec::with_capacity(n);
+        for (i, j) in read.joints.iter().enumerate() {
+            let ik = sol.rotations.get(i).copied().unwrap_or(DQuat::IDENTITY);
+            let r = if w == 0.0 {
+                j.fk
+            } else {
+                let q = if w == 1.0 {
+                    ik
+                } else {
+                    let fk = euler_to_quat(rad(j.fk), j.order);
+                    super::chain::blend_fk_ik(&[fk], &[ik], w)[0]
+                };
+                let reference = j.fk + (j.preferred - j.fk) * w;
+                deg(quat_to_euler_closest(q, j.order, rad(reference)))
+            };
+            rotate.push(finite_or_zero(r));
+            let s = super::chain::blend_scale(sol.bone_scale.get(i).copied().unwrap_or(1.0), w);
+            stretch.push(if s.is_finite() { s } else { 1.0 });
+        }
+        let mut translate = Vec::with_capacity(n);
+        for (i, j) in read.joints.iter().enumerate() {
+            let t = if i == 0 {
+                match root_translate {
+                    Some(rt) if rt.is_finite() => j.translate + (rt - j.translate) * w,
+                    _ => j.translate,
+                }
+            } else {
+                j.translate * stretch[i - 1]
+            };
+            translate.push(finite_or_zero(t));
+        }
+        let status = status_code(&sol.status);
+        let message = match &sol.status {
+            IkStatus::Reached => "reached".to_string(),
+            IkStatus::Unreachable => "unreachable: the chain is held short of the goal".to_string(),
+            IkStatus::NotConverged => format!(
+                "not converged after {} iterations (raise maxIterations or tolerance)",
+                sol.iterations
+            ),
+            IkStatus::Invalid(e) => e.to_string(),
+        };
+        let mut pose = OutPose {
+            rotate,
+            translate,
+            stretch,
+            end_effector: DVec3::ZERO,
+            status,
+            message,
+        };
+        pose.end_effector = pose.fk_end(read);
+        pose
+    }
+
+    /// World position of the last joint when the joints take this pose (what connected
+    /// `joint` nodes will show, up to rounding).
+    fn fk_end(&self, read: &ChainRead) -> DVec3 {
+        let mut chain = read.chain();
+        let mut rotations = Vec::with_capacity(chain.joints.len());
+        for (i, j) in chain.joints.iter_mut().enumerate() {
+            j.translate = self.translate[i];
+            rotations.push(euler_to_quat(rad(self.rotate[i]), read.joints[i].order));
+        }
+        let end = chain_world_positions(&chain, &rotations)
+            .last()
+            .copied()
+            .unwrap_or(DVec3::ZERO);
+        finite_or_zero(end)
+    }
+}
+
+/// Handles of the outputs every IK node declares.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct ChainOutputs {
+    out_rotate: MultiOutput<DVec3>,
+    out_translate: MultiOutput<DVec3>,
+    out_stretch: MultiOutput<f64>,
+    end_effector: Output<DVec3>,
+    status: Output<i64>,
+    status_message: Output<Arc<str>>,
+    error: Output<f64>,
+}
+
+impl ChainOutputs {
+    /// Declares the chain outputs on `b`.
+    pub fn declare(b: &mut SpecBuilder) -> Self {
+        let out_rotate = b.multi_output("outRotate", DVec3::ZERO);
+        b.attr_doc(
+            out_rotate,
+            "per joint the solved rotate (degrees, the joint's rotate order); connect to joint.rotate",
+        );
+        b.unit(out_rotate, Unit::Degrees);
+        let out_translate = b.multi_output("outTranslate", DVec3::ZERO);
+        b.attr_doc(
+            out_translate,
+            "per joint its translate with the parent bone's stretch applied; connect to joint.translate for stretch",
+        );
+        let out_stretch = b.multi_output("outStretch", 1.0);
+        b.attr_doc(
+            out_stretch,
+            "per joint the stretch factor of the bone from it to the next joint (1 = none; the last is 1)",
+        );
+        let end_effector = b.output("endEffector", DVec3::ZERO);
+        b.attr_doc(end_effector, "world position of the last joint in the output pose");
+        let status = b.output("status", 0i64);
+        b.attr_doc(
+            status,
+            "0 reached, 1 unreachable (held short), 2 not converged, 3 invalid input (rest pose)",
+        );
+        let status_message = b.output("statusMessage", Arc::<str>::from(""));
+        b.attr_doc(status_message, "the status in words, naming the bad input when invalid");
+        let error = b.output("error", 0.0);
+        b.attr_doc(
+            error,
+            "distance from endEffector to the goal (ikSpline: chain length past the curve end); -1 when invalid",
+        );
+        ChainOutputs {
+            out_rotate,
+            out_translate,
+            out_stretch,
+            end_effector,
+            status,
+            status_message,
+            error,
+        }
+    }
+
+    /// Writes `pose` to the outputs. Output elements whose index names no joint get
+    /// zero rotation/translation and stretch 1. `error` is written as given.
+    pub fn write(&self, ctx: &mut ComputeContext<'_>, read: &ChainRead, pose: &OutPose, error: f64) {
+        let slot = |index: u32| read.joints.iter().position(|j| j.index == index);
+        for k in 0..ctx.multi_out_len(self.out_rotate) {
+            if let Some(index) = ctx.multi_out_index(self.out_rotate, k) {
+                let v = slot(index).map_or(DVec3::ZERO, |i| pose.rotate[i]);
+                ctx.set_at(self.out_rotate, index, v);
+            }
+        }
+        for k in 0..ctx.multi_out_len(self.out_translate) {
+            if let Some(index) = ctx.multi_out_index(self.out_translate, k) {
+                let v = slot(index).map_or(DVec3::ZERO, |i| pose.translate[i]);
+                ctx.set_at(self.out_translate, index, v);
+            }
+        }
+        for k in 0..ctx.multi_out_len(self.out_stretch) {
+            if let Some(index) = ctx.multi_out_index(self.out_stretch, k) {
+                let v = slot(index).map_or(1.0, |i| pose.stretch[i]);
+                ctx.set_at(self.out_stretch, index, v);
+            }
+        }
+        ctx.set(self.end_effector, pose.end_effector);
+        ctx.set(self.status, pose.status);
+        ctx.set(self.status_message, Arc::from(pose.message.as_str()));
+        let error = if pose.status == STATUS_INVALID || !error.is_finite() {
+            -1.0
+        } else {
+            error
+        };
+        ctx.set(self.error, error);
+    }
+}

@@ -1,0 +1,71 @@
+//! The `ikSC` node: single-chain position IK for chains of any length (FABRIK or CCD).
+
+use sinew_core::{ComputeContext, ComputeError, Input, NodeSpec, NodeType, SpecError};
+
+use super::iterative::{solve_sc, IterMethod};
+use super::node_chain::{ChainInputs, ChainOutputs};
+use super::nodes_rp::{solve_and_write, GoalInputs};
+
+/// Choices of the `solver` enum, by index.
+pub const SOLVER_CHOICES: [&str; 2] = ["fabrik", "ccd"];
+
+/// `ikSC`: single-chain IK (Maya's ikSCsolver on an ikHandle, position only, as one node).
+///
+/// The end joint reaches the translation of `goalMatrix`; rotations are minimal-twist
+/// deltas from the preferred pose. `solver` picks FABRIK (default) or CCD; both stop at
+/// `tolerance` or `maxIterations`. Unreachable goals give a straight chain pointing at
+/// the goal (status 1). Needs at least 2 joints.
+pub struct IkSc {
+    spec: NodeSpec,
+    chain: ChainInputs,
+    goal: GoalInputs,
+    solver: Input<i64>,
+    outputs: ChainOutputs,
+}
+
+impl IkSc {
+    /// Creates the node type.
+    pub fn new() -> Result<Self, SpecError> {
+        let mut b = NodeSpec::builder("ikSC");
+        b.doc("single-chain IK (FABRIK or CCD): chain rest data and goal in; joint rotations out");
+        let chain = ChainInputs::declare(&mut b);
+        let goal = GoalInputs::declare(&mut b);
+        let solver = b.input_enum("solver", &SOLVER_CHOICES, 0);
+        b.attr_doc(
+            solver,
+            "fabrik (default: fast, no twist drift) or ccd (curls from the tip)",
+        );
+        let outputs = ChainOutputs::declare(&mut b);
+        Ok(IkSc {
+            spec: b.build()?,
+            chain,
+            goal,
+            solver,
+            outputs,
+        })
+    }
+}
+
+impl NodeType for IkSc {
+    fn spec(&self) -> &NodeSpec {
+        &self.spec
+    }
+
+    fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
+        let read = self.chain.read(ctx, 2, "ikSC")?;
+        let mut goal = self.goal.read(ctx);
+        goal.iter.method = match ctx.get(self.solver) {
+            0 => IterMethod::Fabrik,
+            1 => IterMethod::Ccd,
+            other => {
+                return Err(ComputeError::new(format!(
+                    "solver is {other}; use 0 (fabrik) or 1 (ccd)"
+                )))
+            }
+        };
+        solve_and_write(ctx, &self.outputs, &read, &goal, None, |chain| {
+            solve_sc(chain, goal.goal, &goal.iter, &goal.reach)
+        });
+        Ok(())
+    }
+}
