@@ -18,7 +18,11 @@ fn chain(n: usize) -> Graph {
     for i in 0..n {
         g.add_node("add", &format!("a{i}")).expect("add");
         g.set_path(&format!("a{i}.input2"), Value::Float(1.0)).expect("set");
-        let src = if i == 0 { "t.output".to_string() } else { format!("a{}.output", i - 1) };
+        let src = if i == 0 {
+            "t.output".to_string()
+        } else {
+            format!("a{}.output", i - 1)
+        };
         g.connect_path(&src, &format!("a{i}.input1")).expect("connect");
     }
     g
@@ -30,7 +34,8 @@ fn wide(n: usize) -> Graph {
     g.add_node("timeSource", "t").expect("add");
     for i in 0..n {
         g.add_node("add", &format!("a{i}")).expect("add");
-        g.set_path(&format!("a{i}.input2"), Value::Float(i as f64)).expect("set");
+        g.set_path(&format!("a{i}.input2"), Value::Float(i as f64))
+            .expect("set");
         g.connect_path("t.output", &format!("a{i}.input1")).expect("connect");
     }
     g

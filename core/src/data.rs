@@ -74,10 +74,7 @@ impl Mesh {
             acc[b] += n;
             acc[c] += n;
         }
-        self.normals = acc
-            .into_iter()
-            .map(|n| n.try_normalize().unwrap_or(Vec3::Y))
-            .collect();
+        self.normals = acc.into_iter().map(|n| n.try_normalize().unwrap_or(Vec3::Y)).collect();
     }
 }
 

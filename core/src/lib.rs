@@ -26,11 +26,11 @@ pub use node::{ComputeContext, NodeType, Time};
 pub use program::{evaluate_batch, CompileOptions, Instance, PlugHandle, Program};
 pub use registry::Registry;
 pub use rig::{
-    format_rig_file, graph_eq, load_rig, load_rig_str, rig_dependencies, save_rig, to_dot, to_json, Diagnostic, Diagnostics,
-    LoadedRig, RigDocument,
+    format_rig_file, graph_eq, load_rig, load_rig_str, rig_dependencies, save_rig, to_dot, to_json, Diagnostic,
+    Diagnostics, LoadedRig, RigDocument,
 };
 pub use spec::{
-    AttrId, AttrSpec, ComputeGroup, DagSpec, Direction, Input, MirrorRole, MultiInput, MultiOutput, NodeSpec, Output,
-    SpecBuilder, Unit,
+    AttrId, AttrSpec, ComputeGroup, DagLink, DagSpec, Direction, Input, MirrorRole, MultiInput, MultiOutput, NodeSpec,
+    Output, SpecBuilder, Unit,
 };
-pub use value::{AttrType, AttrValue, SharedData, Value};
+pub use value::{AttrType, AttrValue, ObjectRef, SharedData, Value};

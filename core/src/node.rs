@@ -115,9 +115,19 @@ impl<'a> ComputeContext<'a> {
         }
     }
 
-    #[inline]
+    #[inline(always)]
     fn read_with<T: AttrValue>(&self, id: AttrId, k: usize) -> Option<T> {
         // Fast paths avoid cloning the whole value for plain slots.
+        if let (Io::Compiled(io), 0) = (&self.io, k) {
+            let b = io.attrs.get(id.index())?;
+            if b.len == 0 {
+                return None;
+            }
+            return match b.head {
+                Binding::Slot(s) => T::from_value(io.slots.get(s as usize)?),
+                other => T::from_value(&io.tables.resolve(io.slots, other)),
+            };
+        }
         match &self.io {
             Io::Lazy(io) => io
                 .attrs
@@ -146,6 +156,14 @@ impl<'a> ComputeContext<'a> {
     /// Reads a single-valued input.
     #[inline]
     pub fn get<T: AttrValue>(&self, h: Input<T>) -> T {
+        self.read_with(h.id(), 0).unwrap_or_else(|| self.fallback(h.id()))
+    }
+
+    /// Reads an output of another compute group of this node that the
+    /// current group declared it depends on (`affects(&[that_output], ...)`),
+    /// e.g. a precomputed curve in an `Object` output.
+    #[inline]
+    pub fn get_output<T: AttrValue>(&self, h: Output<T>) -> T {
         self.read_with(h.id(), 0).unwrap_or_else(|| self.fallback(h.id()))
     }
 
@@ -204,26 +222,33 @@ impl<'a> ComputeContext<'a> {
         self.elem_index(h.id(), k)
     }
 
-    #[inline]
+    #[inline(always)]
     fn write<T: AttrValue>(&mut self, id: AttrId, k: usize, v: T) {
-        if self.spec.group_of(id) != Some(self.group) {
-            return;
-        }
         match &mut self.io {
             Io::Compiled(io) => {
-                if let Some(b) = io.attrs.get(id.index()) {
-                    if k < b.len as usize {
-                        if let Some(Binding::Slot(s)) = io.tables.elems.get(b.first as usize + k).map(|e| e.binding) {
-                            if let Some(slot) = io.slots.get_mut(s as usize) {
-                                v.write_into(slot);
-                            }
-                        }
+                let Some(b) = io.attrs.get(id.index()) else { return };
+                if b.group != self.group || k >= b.len as usize {
+                    return;
+                }
+                let binding = if k == 0 {
+                    b.head
+                } else {
+                    io.tables.elems.get(b.first as usize + k).map_or(b.head, |e| e.binding)
+                };
+                if let Binding::Slot(s) = binding {
+                    if let Some(slot) = io.slots.get_mut(s as usize) {
+                        v.write_into(slot);
                     }
                 }
             }
             Io::Lazy(io) => {
+                if self.spec.group_of(id) != Some(self.group) {
+                    return;
+                }
                 if let Some(e) = io.attrs.get_mut(id.index()).and_then(|a| a.elems.get_mut(k)) {
-                    let v = v.into_value();
+                    let mut v_new = e.value.clone();
+                    v.write_into(&mut v_new);
+                    let v = v_new;
                     if !e.value.same_bits(&v) {
                         e.value = v;
                         e.changed_at = io.revision;

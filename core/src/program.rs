@@ -40,10 +40,26 @@ pub(crate) struct ElemBinding {
     pub binding: Binding,
 }
 
-#[derive(Clone, Copy, Debug, Default)]
+/// Where one attribute of one step's node lives: its elements in
+/// `CompiledTables::elems`, the first element's binding inline (the fast path
+/// for single attributes), and its compute group (`u16::MAX` for inputs).
+#[derive(Clone, Copy, Debug)]
 pub(crate) struct AttrBinding {
     pub first: u32,
     pub len: u32,
+    pub head: Binding,
+    pub group: u16,
+}
+
+impl Default for AttrBinding {
+    fn default() -> Self {
+        AttrBinding {
+            first: 0,
+            len: 0,
+            head: Binding::Slot(u32::MAX),
+            group: u16::MAX,
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -562,6 +578,8 @@ impl<'g> Compiler<'g> {
                 attr_bindings[(self.attr_base[ni] + a as u32) as usize] = AttrBinding {
                     first,
                     len: elems.len() as u32 - first,
+                    head: elems.get(first as usize).map_or(Binding::Slot(u32::MAX), |e| e.binding),
+                    group: spec.group_of(AttrId(a as u16)).unwrap_or(u16::MAX),
                 };
             }
         }
@@ -665,8 +683,9 @@ impl<'g> Compiler<'g> {
         let mut dynamic = vec![false; n];
         for &i in &order {
             let i = i as usize;
-            dynamic[i] =
-                steps[i].kind.spec().time_dependent || reads_dynamic[i] || deps[i].iter().any(|&d| dynamic[d as usize]);
+            dynamic[i] = steps[i].kind.spec().group_time_dependent(steps[i].group)
+                || reads_dynamic[i]
+                || deps[i].iter().any(|&d| dynamic[d as usize]);
         }
         // Reorder steps into schedule order.
         let mut slots_of_steps: Vec<Option<Step>> = steps.into_iter().map(Some).collect();

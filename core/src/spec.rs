@@ -138,8 +138,11 @@ impl AttrSpec {
 pub struct ComputeGroup {
     /// Outputs written by one call of `compute` for this group.
     pub outputs: Vec<AttrId>,
-    /// Inputs that affect them (what must be clean before computing).
+    /// Inputs that affect them (what must be clean before computing). May
+    /// include outputs of other groups of the same node (precomputed data).
     pub inputs: Vec<AttrId>,
+    /// Whether the group reads the graph's time.
+    pub time_dependent: bool,
 }
 
 /// The DAG (parenting) hookup of a node type: the child's `parent_matrix`
@@ -150,12 +153,23 @@ pub struct DagSpec {
     pub parent_matrix: AttrId,
     /// The output that feeds children's `parent_matrix`.
     pub world_matrix: AttrId,
-    /// Extra links made when parenting: `(attribute name on the parent, input
-    /// on this child)`, connected when the parent has that attribute with the
-    /// same type (a joint's `scale` feeds its child joint's `inverseScale`).
-    pub links: Vec<(String, AttrId)>,
+    /// Extra links made when parenting (see [`DagLink`]).
+    pub links: Vec<DagLink>,
 }
 
+/// An extra connection made when a node is parented: the parent's attribute
+/// `parent_attr` feeds this node's `child_input`, when the parent has that
+/// attribute with a compatible type (and, if `parent_type` is given, only
+/// when the parent is of that node type).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct DagLink {
+    /// Attribute name on the parent.
+    pub parent_attr: String,
+    /// Input on the child.
+    pub child_input: AttrId,
+    /// Only link when the parent has this node type.
+    pub parent_type: Option<String>,
+}
 /// The specification of a node type.
 #[derive(Clone, Debug)]
 pub struct NodeSpec {
@@ -186,6 +200,7 @@ impl NodeSpec {
             attrs: Vec::new(),
             affects: Vec::new(),
             time_dependent: false,
+            time_outputs: Vec::new(),
             dag: None,
         }
     }
@@ -222,7 +237,13 @@ impl NodeSpec {
         }
     }
 
-    /// The groups an input affects (empty for outputs).
+    /// Whether group `g` reads the graph's time.
+    pub fn group_time_dependent(&self, g: u16) -> bool {
+        self.groups.get(g as usize).is_some_and(|x| x.time_dependent)
+    }
+
+    /// The groups an attribute affects: for an input, the groups that read it;
+    /// for an output, the other groups of this node that read it.
     pub fn groups_affected_by(&self, id: AttrId) -> &[u16] {
         self.affected_groups
             .get(id.index())
@@ -245,6 +266,7 @@ pub struct SpecBuilder {
     attrs: Vec<AttrSpec>,
     affects: Vec<(AttrId, AttrId)>,
     time_dependent: bool,
+    time_outputs: Vec<AttrId>,
     dag: Option<DagSpec>,
 }
 
@@ -327,6 +349,16 @@ impl SpecBuilder {
         self
     }
 
+    /// Sets the full names of the children of a vec3 attribute, for Maya
+    /// attributes whose children do not follow the suffix rule
+    /// (`inTranslate1` has children `inTranslateX1`...).
+    pub fn child_names(&mut self, id: impl Into<AttrId>, names: [&str; 3]) -> &mut Self {
+        if let Some(a) = self.attr_mut(id) {
+            a.children = Some(names.map(|s| s.to_string()));
+        }
+        self
+    }
+
     /// Marks an attribute as an angle in degrees (or another unit).
     pub fn unit(&mut self, id: impl Into<AttrId>, unit: Unit) -> &mut Self {
         if let Some(a) = self.attr_mut(id) {
@@ -364,9 +396,19 @@ impl SpecBuilder {
         self
     }
 
-    /// Marks the node as reading the graph's time.
+    /// Marks the node as reading the graph's time (every group, unless
+    /// [`SpecBuilder::time_affects`] narrows it).
     pub fn time_dependent(&mut self) -> &mut Self {
         self.time_dependent = true;
+        self
+    }
+
+    /// Marks the node as time-dependent, with time affecting only `outputs`:
+    /// the other groups (e.g. a curve's precomputed segments) are not re-run
+    /// when time changes.
+    pub fn time_affects(&mut self, outputs: &[AttrId]) -> &mut Self {
+        self.time_dependent = true;
+        self.time_outputs.extend_from_slice(outputs);
         self
     }
 
@@ -385,9 +427,40 @@ impl SpecBuilder {
     /// type, that attribute is connected into `child_input`.
     pub fn dag_link<T>(&mut self, parent_attr: &str, child_input: Input<T>) -> &mut Self {
         if let Some(d) = &mut self.dag {
-            d.links.push((parent_attr.to_string(), child_input.id()));
+            d.links.push(DagLink {
+                parent_attr: parent_attr.to_string(),
+                child_input: child_input.id(),
+                parent_type: None,
+            });
         }
         self
+    }
+
+    /// Like [`SpecBuilder::dag_link`], but only when the parent is of node type
+    /// `parent_type` (Maya links `scale` to `inverseScale` only joint to joint).
+    pub fn dag_link_from<T>(&mut self, parent_type: &str, parent_attr: &str, child_input: Input<T>) -> &mut Self {
+        if let Some(d) = &mut self.dag {
+            d.links.push(DagLink {
+                parent_attr: parent_attr.to_string(),
+                child_input: child_input.id(),
+                parent_type: Some(parent_type.to_string()),
+            });
+        }
+        self
+    }
+
+    /// Declares a multi enum input with its choices and default index.
+    pub fn multi_input_enum(&mut self, name: &str, choices: &[&str], default: i64) -> MultiInput<i64> {
+        let id = self.push(name, AttrType::Enum, Direction::Input, Value::Enum(default), true);
+        self.attrs[id.index()].enum_names = choices.iter().map(|s| s.to_string()).collect();
+        MultiInput::new(id)
+    }
+
+    /// Declares an enum output with its choices (written as an `i64` index).
+    pub fn output_enum(&mut self, name: &str, choices: &[&str], initial: i64) -> Output<i64> {
+        let id = self.push(name, AttrType::Enum, Direction::Output, Value::Enum(initial), false);
+        self.attrs[id.index()].enum_names = choices.iter().map(|s| s.to_string()).collect();
+        Output::new(id)
     }
 
     /// Finishes the spec: checks names and derives compute groups.
@@ -434,10 +507,18 @@ impl SpecBuilder {
         let n = self.attrs.len();
         let is_out = |id: AttrId| self.attrs.get(id.index()).map(|a| a.direction == Direction::Output);
         for &(i, o) in &self.affects {
-            if is_out(i) != Some(false) || is_out(o) != Some(true) {
+            if is_out(i).is_none() || is_out(o) != Some(true) || i == o {
                 return Err(err(format!(
-                    "affects must go from an input to an output ({} -> {})",
+                    "affects must go from an input (or another output) to an output ({} -> {})",
                     i.0, o.0
+                )));
+            }
+        }
+        for &o in &self.time_outputs {
+            if is_out(o) != Some(true) {
+                return Err(err(format!(
+                    "time_affects names attribute {} which is not an output",
+                    o.0
                 )));
             }
         }
@@ -461,18 +542,43 @@ impl SpecBuilder {
             };
             ins.sort();
             ins.dedup();
-            let g = match groups.iter().position(|g| g.inputs == ins) {
+            let timed = self.time_dependent && (self.time_outputs.is_empty() || self.time_outputs.contains(&o));
+            let g = match groups.iter().position(|g| g.inputs == ins && g.time_dependent == timed) {
                 Some(g) => g,
                 None => {
                     groups.push(ComputeGroup {
                         outputs: Vec::new(),
                         inputs: ins,
+                        time_dependent: timed,
                     });
                     groups.len() - 1
                 }
             };
             groups[g].outputs.push(o);
             group_of[o.index()] = g as u16;
+        }
+        // Output-to-output affects must not loop between groups.
+        let group_deps = |g: usize| -> Vec<usize> {
+            groups[g]
+                .inputs
+                .iter()
+                .filter(|i| group_of[i.index()] != u16::MAX)
+                .map(|i| group_of[i.index()] as usize)
+                .collect()
+        };
+        for start in 0..groups.len() {
+            let mut stack = group_deps(start);
+            let mut seen = vec![false; groups.len()];
+            while let Some(g) = stack.pop() {
+                if g == start {
+                    return Err(err(
+                        "outputs affect each other in a loop; an output group cannot depend on itself".into(),
+                    ));
+                }
+                if !std::mem::replace(&mut seen[g], true) {
+                    stack.extend(group_deps(g));
+                }
+            }
         }
         let mut affected_groups = vec![Vec::new(); n];
         for (g, grp) in groups.iter().enumerate() {

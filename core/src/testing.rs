@@ -286,7 +286,8 @@ impl TestXform {
             local.push(jo.id());
         }
         if let Some((aim, up)) = extra {
-            s.mirror(aim, MirrorRole::LocalVector).mirror(up, MirrorRole::WorldVector);
+            s.mirror(aim, MirrorRole::LocalVector)
+                .mirror(up, MirrorRole::WorldVector);
         }
         s.affects(&local, &[matrix.id(), world_matrix.id()]);
         s.affects(&[parent_matrix.id()], &[world_matrix.id()]);
@@ -333,6 +334,52 @@ impl NodeType for TestXform {
     }
 }
 
+/// `cachedRamp`: a precompute group turns `factor` into an `Object` cache
+/// (`2 * factor`), and a time-dependent group computes `output = cache * frame`.
+/// Only the second group re-runs when time changes.
+pub struct CachedRamp {
+    spec: NodeSpec,
+    factor: Input<f64>,
+    cache: Output<crate::value::ObjectRef>,
+    out: Output<f64>,
+}
+
+impl CachedRamp {
+    /// Creates the node type.
+    pub fn new() -> Result<Self, SpecError> {
+        let mut s = NodeSpec::builder("cachedRamp");
+        let factor = s.input("factor", 1.0);
+        let cache = s.output("cache", crate::value::ObjectRef::default());
+        let out = s.output("output", 0.0);
+        s.affects(&[factor.id()], &[cache.id()]);
+        s.affects(&[cache.id()], &[out.id()]);
+        s.time_affects(&[out.id()]);
+        Ok(CachedRamp {
+            spec: s.build()?,
+            factor,
+            cache,
+            out,
+        })
+    }
+}
+
+impl NodeType for CachedRamp {
+    fn spec(&self) -> &NodeSpec {
+        &self.spec
+    }
+    fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
+        if ctx.wants(self.cache) {
+            let f = ctx.get(self.factor);
+            ctx.set(self.cache, crate::value::ObjectRef::new(2.0 * f));
+        }
+        if ctx.wants(self.out) {
+            let k = ctx.get_output(self.cache).downcast::<f64>().copied().unwrap_or(0.0);
+            ctx.set(self.out, k * ctx.time().frame);
+        }
+        Ok(())
+    }
+}
+
 /// A registry with all the test node types.
 pub fn registry() -> Result<Arc<Registry>, SpecError> {
     let mut r = Registry::new();
@@ -342,6 +389,7 @@ pub fn registry() -> Result<Arc<Registry>, SpecError> {
     r.register(VecScale::new()?)?;
     r.register(SumMulti::new()?)?;
     r.register(TimeSource::new()?)?;
+    r.register(CachedRamp::new()?)?;
     r.register(TestXform::new(true)?)?;
     r.register(TestXform::new(false)?)?;
     Ok(Arc::new(r))

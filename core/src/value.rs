@@ -455,6 +455,14 @@ impl AttrValue for i64 {
     fn into_value(self) -> Value {
         Value::Int(self)
     }
+    /// Keeps an enum slot an enum (an `i64` written to an enum output).
+    #[inline]
+    fn write_into(self, slot: &mut Value) {
+        match slot {
+            Value::Int(x) | Value::Enum(x) => *x = self,
+            other => *other = Value::Int(self),
+        }
+    }
 }
 
 /// Heavy data held behind an `Arc` that a node may mutate in place on its

@@ -10,8 +10,11 @@ use sinew_core::{Registry, SpecError};
 
 pub mod anim;
 pub mod constraint;
+pub mod deform;
 pub mod ik;
 pub mod math;
+#[cfg(feature = "skeletonize")]
+pub mod skeletonize;
 pub mod transform;
 
 /// Registers every standard node type.

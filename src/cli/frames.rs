@@ -20,7 +20,9 @@ impl FrameRange {
 pub fn parse_frames(s: &str) -> Result<FrameRange, String> {
     let s = s.trim();
     let num = |t: &str| -> Result<i64, String> {
-        t.trim().parse::<i64>().map_err(|_| format!("{t:?} is not a whole frame number"))
+        t.trim()
+            .parse::<i64>()
+            .map_err(|_| format!("{t:?} is not a whole frame number"))
     };
     let (start, end) = if let Some((a, b)) = s.split_once("..=") {
         (num(a)?, num(b)?)
@@ -31,7 +33,9 @@ pub fn parse_frames(s: &str) -> Result<FrameRange, String> {
         (f, f)
     };
     if end < start {
-        return Err(format!("frame range {s:?} is empty; write it as START..=END with END >= START"));
+        return Err(format!(
+            "frame range {s:?} is empty; write it as START..=END with END >= START"
+        ));
     }
     if end - start > 10_000_000 {
         return Err(format!("frame range {s:?} is too long (over ten million frames)"));
@@ -45,7 +49,10 @@ mod tests {
 
     #[test]
     fn ranges() {
-        assert_eq!(parse_frames("1..=3").unwrap().frames().collect::<Vec<_>>(), vec![1, 2, 3]);
+        assert_eq!(
+            parse_frames("1..=3").unwrap().frames().collect::<Vec<_>>(),
+            vec![1, 2, 3]
+        );
         assert_eq!(parse_frames("1..3").unwrap().frames().collect::<Vec<_>>(), vec![1, 2]);
         assert_eq!(parse_frames("7").unwrap().frames().count(), 1);
         assert!(parse_frames("3..=1").is_err());

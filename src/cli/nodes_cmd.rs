@@ -7,7 +7,16 @@ use sinew_core::{AttrSpec, Direction, NodeSpec, Registry};
 
 /// Human-readable listing of one node type.
 fn describe(spec: &NodeSpec, out: &mut String) {
-    let _ = writeln!(out, "{}{}", spec.name, if spec.doc.is_empty() { String::new() } else { format!(" — {}", spec.doc) });
+    let _ = writeln!(
+        out,
+        "{}{}",
+        spec.name,
+        if spec.doc.is_empty() {
+            String::new()
+        } else {
+            format!(" — {}", spec.doc)
+        }
+    );
     for a in &spec.attrs {
         let _ = writeln!(out, "    {}", attr_line(a));
     }

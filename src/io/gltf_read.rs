@@ -212,7 +212,7 @@ impl Reader<'_> {
             let finite = node.translation.is_finite()
                 && node.rotation.is_finite()
                 && node.scale.is_finite()
-                && node.matrix.map_or(true, |m| m.is_finite());
+                && node.matrix.is_none_or(|m| m.is_finite());
             if !finite {
                 return Err(GltfError::Invalid(format!("node {}: non-finite transform", n.index())));
             }

@@ -27,18 +27,30 @@ impl Graph {
             for (a, store) in data.attrs.iter().enumerate() {
                 let multi = spec.attrs[a].multi;
                 if !multi && (store.elems.len() != 1 || store.elems[0].index != 0) {
-                    return Err(format!("{}.{} must have exactly element 0", data.name, spec.attrs[a].name));
+                    return Err(format!(
+                        "{}.{} must have exactly element 0",
+                        data.name, spec.attrs[a].name
+                    ));
                 }
                 if store.elems.windows(2).any(|w| w[0].index >= w[1].index) {
                     return Err(format!("{}.{} elements are not sorted", data.name, spec.attrs[a].name));
                 }
                 for e in &store.elems {
-                    let here = Plug { node: id, attr: AttrId(a as u16), index: multi.then_some(e.index), component: None };
+                    let here = Plug {
+                        node: id,
+                        attr: AttrId(a as u16),
+                        index: multi.then_some(e.index),
+                        component: None,
+                    };
                     if e.value.attr_type() != spec.attrs[a].ty
                         && !(spec.attrs[a].ty == crate::value::AttrType::Enum
                             && e.value.attr_type() == crate::value::AttrType::Int)
                     {
-                        return Err(format!("{} holds a {} value", self.plug_name(here), e.value.attr_type()));
+                        return Err(format!(
+                            "{} holds a {} value",
+                            self.plug_name(here),
+                            e.value.attr_type()
+                        ));
                     }
                     for d in &e.dests {
                         if !self.nodes.contains_key(d.node) {
@@ -54,15 +66,28 @@ impl Graph {
             if !self.nodes.contains_key(src.node) {
                 return Err(format!("{} is driven by a removed node", self.plug_name(dst)));
             }
-            let (st, dt) = (self.plug_type(src).map_err(|e| e.to_string())?, self.plug_type(dst).map_err(|e| e.to_string())?);
+            let (st, dt) = (
+                self.plug_type(src).map_err(|e| e.to_string())?,
+                self.plug_type(dst).map_err(|e| e.to_string())?,
+            );
             if !st.connects_to(dt) {
-                return Err(format!("{} ({st}) drives {} ({dt})", self.plug_name(src), self.plug_name(dst)));
+                return Err(format!(
+                    "{} ({st}) drives {} ({dt})",
+                    self.plug_name(src),
+                    self.plug_name(dst)
+                ));
             }
             backward.insert((src.whole(), dst));
         }
         if forward != backward {
-            return Err(format!("connections disagree: {} recorded at sources, {} at destinations", forward.len(), backward.len()));
+            return Err(format!(
+                "connections disagree: {} recorded at sources, {} at destinations",
+                forward.len(),
+                backward.len()
+            ));
         }
-        Program::compile(self, &CompileOptions::default()).map(|_| ()).map_err(|e| e.to_string())
+        Program::compile(self, &CompileOptions::default())
+            .map(|_| ())
+            .map_err(|e| e.to_string())
     }
 }

@@ -124,10 +124,8 @@ impl Graph {
         };
         let spec = data.spec();
         let mut out = Vec::new();
-        if spec.attr(attr).is_input() {
-            for &g in spec.groups_affected_by(attr) {
-                out.extend(spec.groups()[g as usize].outputs.iter().map(|&o| (node, o)));
-            }
+        for &g in spec.groups_affected_by(attr) {
+            out.extend(spec.groups()[g as usize].outputs.iter().map(|&o| (node, o)));
         }
         for e in &data.attrs[attr.index()].elems {
             out.extend(e.dests.iter().map(|d| (d.node, d.attr)));
@@ -319,7 +317,7 @@ impl Graph {
         // The links the current parent made, to be replaced.
         let old_parent = self.parent_of(child);
         let mut old_links = Vec::new();
-        for dst_attr in std::iter::once(cdag.parent_matrix).chain(cdag.links.iter().map(|l| l.1)) {
+        for dst_attr in std::iter::once(cdag.parent_matrix).chain(cdag.links.iter().map(|l| l.child_input)) {
             let dst = Plug::new(child, dst_attr);
             if let Some(src) = self.source_of(dst) {
                 if Some(src.node) == old_parent {
@@ -364,11 +362,14 @@ impl Graph {
             Plug::new(parent, pdag.world_matrix),
             Plug::new(child, cdag.parent_matrix),
         )];
-        for (parent_attr, dst_attr) in &cdag.links {
-            let Some((src_attr, None)) = pd.spec().find(parent_attr) else {
+        for link in &cdag.links {
+            if link.parent_type.as_ref().is_some_and(|t| *t != pd.type_name) {
+                continue;
+            }
+            let Some((src_attr, None)) = pd.spec().find(&link.parent_attr) else {
                 continue;
             };
-            let dst = Plug::new(child, *dst_attr);
+            let dst = Plug::new(child, link.child_input);
             let src = Plug::new(parent, src_attr);
             let (Ok(st), Ok(dt)) = (self.plug_type(src), self.plug_type(dst)) else {
                 continue;

@@ -43,13 +43,13 @@ impl Graph {
             let Some(data) = self.nodes.get_mut(n) else { continue };
             let kind = data.kind.clone();
             let spec = kind.spec();
-            if spec.attr(a).is_input() {
-                for &g in spec.groups_affected_by(a) {
-                    let gs = &mut data.groups[g as usize];
-                    if !gs.dirty {
-                        gs.dirty = true;
-                        stack.extend(spec.groups()[g as usize].outputs.iter().map(|&o| (n, o)));
-                    }
+            // Inputs feed the groups that read them; outputs may feed other
+            // groups of the same node (precomputed data).
+            for &g in spec.groups_affected_by(a) {
+                let gs = &mut data.groups[g as usize];
+                if !gs.dirty {
+                    gs.dirty = true;
+                    stack.extend(spec.groups()[g as usize].outputs.iter().map(|&o| (n, o)));
                 }
             }
             for e in &data.attrs[a.index()].elems {
@@ -76,6 +76,9 @@ impl Graph {
             let kind = self.nodes[n].kind.clone();
             let spec = kind.spec();
             for g in 0..spec.groups().len() {
+                if !spec.group_time_dependent(g as u16) {
+                    continue;
+                }
                 let gs = &mut self.nodes[n].groups[g];
                 if !gs.dirty {
                     gs.dirty = true;
@@ -213,6 +216,13 @@ impl Graph {
                 stack.push((n, g, true));
                 deps.clear();
                 for &a in &group.inputs {
+                    if let Some(own) = spec.group_of(a) {
+                        // Another group of this node whose output this group reads.
+                        if data.groups[own as usize].dirty {
+                            deps.push((n, own));
+                        }
+                        continue;
+                    }
                     let multi = spec.attr(a).multi;
                     for e in &data.attrs[a.index()].elems {
                         if e.is_driven() {
@@ -230,7 +240,7 @@ impl Graph {
                 continue;
             }
             // Upstream is clean: refresh connected inputs, then decide.
-            for &a in &group.inputs {
+            for &a in group.inputs.iter().filter(|&&a| spec.attr(a).is_input()) {
                 let multi = spec.attr(a).multi;
                 let indices: Vec<u32> = self.nodes[n].attrs[a.index()]
                     .elems
@@ -253,7 +263,7 @@ impl Graph {
             let data = &mut self.nodes[n];
             let gs = data.groups[g as usize];
             let changed = gs.force
-                || (spec.time_dependent && time_changed_at > gs.verified_at)
+                || (spec.group_time_dependent(g) && time_changed_at > gs.verified_at)
                 || group.inputs.iter().any(|a| {
                     data.attrs[a.index()]
                         .elems

@@ -292,3 +292,27 @@ fn compiled_dynamic_inputs_rerun_only_downstream() {
     assert!(inst.set_typed(&p.handle("a1.input1").unwrap(), 1.0).is_err());
     assert!(inst.set(&h_in, Value::Vec3(DVec3::ONE)).is_err());
 }
+
+#[test]
+fn precompute_group_runs_once_and_time_group_every_frame() {
+    let mut g = graph();
+    g.add_node("cachedRamp", "r").unwrap();
+    g.set_path("r.factor", Value::Float(3.0)).unwrap();
+    g.set_time(Time::new(2.0, 24.0));
+    // output = (2 * 3) * 2
+    assert_eq!(f(g.get_path("r.output").unwrap()), 12.0);
+    g.reset_stats();
+    g.set_time(Time::new(5.0, 24.0));
+    assert_eq!(f(g.get_path("r.output").unwrap()), 30.0);
+    assert_eq!(g.stats().computes, 1, "only the time group recomputes");
+    g.set_path("r.factor", Value::Float(1.0)).unwrap();
+    assert_eq!(f(g.get_path("r.output").unwrap()), 10.0);
+    let p = Arc::new(Program::compile(&g, &CompileOptions::default()).unwrap());
+    assert_eq!((p.step_count(), p.frame_step_count()), (2, 1));
+    let mut inst = Instance::new(p.clone());
+    let h = p.handle("r.output").unwrap();
+    inst.evaluate(Time::new(5.0, 24.0)).unwrap();
+    assert_eq!(inst.get_typed::<f64>(&h), Some(10.0));
+    inst.evaluate(Time::new(7.0, 24.0)).unwrap();
+    assert_eq!(inst.get_typed::<f64>(&h), Some(14.0));
+}

@@ -160,8 +160,11 @@ impl<'a> Expander<'a> {
             Ok(t) => t,
             Err(e) => {
                 self.diags.push(
-                    Diagnostic::new(at.clone(), format!("cannot read component file `{}`: {e}", key.display()))
-                        .hint("file paths are relative to the file that uses them"),
+                    Diagnostic::new(
+                        at.clone(),
+                        format!("cannot read component file `{}`: {e}", key.display()),
+                    )
+                    .hint("file paths are relative to the file that uses them"),
                 );
                 self.files.insert(key, None);
                 return None;
@@ -182,7 +185,7 @@ impl<'a> Expander<'a> {
         fd
     }
 
-    fn spec_of<'s>(kind: &'s Option<Arc<dyn NodeType>>) -> Option<&'s NodeSpec> {
+    fn spec_of(kind: &Option<Arc<dyn NodeType>>) -> Option<&NodeSpec> {
         kind.as_ref().map(|k| k.spec())
     }
 
@@ -219,15 +222,22 @@ impl<'a> Expander<'a> {
                 None => format!("`sinew nodes {}` lists its attributes", spec.name),
             };
             self.diags.push(
-                Diagnostic::new(fspan.clone(), format!("node type {} has no attribute `{fname}`", spec.name)).hint(hint),
+                Diagnostic::new(
+                    fspan.clone(),
+                    format!("node type {} has no attribute `{fname}`", spec.name),
+                )
+                .hint(hint),
             );
             return;
         };
         let a = spec.attr(attr).clone();
         if !a.is_input() {
             self.diags.push(
-                Diagnostic::new(fspan.clone(), format!("`{fname}` is an output of {}; outputs are computed", spec.name))
-                    .hint("set one of the node's inputs, or connect from this output"),
+                Diagnostic::new(
+                    fspan.clone(),
+                    format!("`{fname}` is an output of {}; outputs are computed", spec.name),
+                )
+                .hint("set one of the node's inputs, or connect from this output"),
             );
             return;
         }
@@ -248,8 +258,14 @@ impl<'a> Expander<'a> {
                         match k.kind {
                             super::parse::Ast::Int(i) if (0..=u32::MAX as i64).contains(&i) => v.push((i as u32, n)),
                             _ => self.diags.push(
-                                Diagnostic::new(k.span.clone(), format!("{what}: element index must be a non-negative integer, found {}", k.kind.describe()))
-                                    .hint("write sparse elements as { 0: value, 4: value }"),
+                                Diagnostic::new(
+                                    k.span.clone(),
+                                    format!(
+                                        "{what}: element index must be a non-negative integer, found {}",
+                                        k.kind.describe()
+                                    ),
+                                )
+                                .hint("write sparse elements as { 0: value, 4: value }"),
                             ),
                         }
                     }
@@ -259,7 +275,11 @@ impl<'a> Expander<'a> {
                     self.diags.push(
                         Diagnostic::new(
                             value.span.clone(),
-                            format!("{what} is a multi attribute of {}; found {}", a.ty, value.kind.describe()),
+                            format!(
+                                "{what} is a multi attribute of {}; found {}",
+                                a.ty,
+                                value.kind.describe()
+                            ),
                         )
                         .hint(format!(
                             "write its elements as a list [{}, ..] or a map {{ 0: {}, 3: .. }}",
@@ -326,12 +346,15 @@ impl<'a> Expander<'a> {
                 let hint = nearest(parts.node, flat.nodes.iter().map(|n| n.name.as_str()))
                     .map(|s| format!("did you mean `{s}`?"))
                     .unwrap_or_else(|| "overrides refer to nodes by name".into());
-                self.diags
-                    .push(Diagnostic::new(s.span.clone(), format!("no node named `{}` to override", parts.node)).hint(hint));
+                self.diags.push(
+                    Diagnostic::new(s.span.clone(), format!("no node named `{}` to override", parts.node)).hint(hint),
+                );
                 continue;
             };
             let node = &mut flat.nodes[k];
-            let Some(spec) = Self::spec_of(&node.kind).cloned() else { continue };
+            let Some(spec) = Self::spec_of(&node.kind).cloned() else {
+                continue;
+            };
             let attr_span = s.span.shifted(parts.node.chars().count() + 1);
             let (attr, comp) = match resolve_attr(&spec, parts.attr, parts.child) {
                 Ok(x) => x,
@@ -344,7 +367,8 @@ impl<'a> Expander<'a> {
                     continue;
                 }
                 Err(AttrLookupError::Malformed(m)) => {
-                    self.diags.push(Diagnostic::new(attr_span, m).hint("check the plug path"));
+                    self.diags
+                        .push(Diagnostic::new(attr_span, m).hint("check the plug path"));
                     continue;
                 }
             };
@@ -358,11 +382,15 @@ impl<'a> Expander<'a> {
             }
             if a.multi != parts.index.is_some() {
                 let m = if a.multi {
-                    format!("`{}` is a multi attribute; address an element like {}[0]", a.name, a.name)
+                    format!(
+                        "`{}` is a multi attribute; address an element like {}[0]",
+                        a.name, a.name
+                    )
                 } else {
                     format!("`{}` is not a multi attribute; drop the [index]", a.name)
                 };
-                self.diags.push(Diagnostic::new(attr_span, m).hint("check the plug path"));
+                self.diags
+                    .push(Diagnostic::new(attr_span, m).hint("check the plug path"));
                 continue;
             }
             let ty = if comp.is_some() { AttrType::Float } else { a.ty };
@@ -451,14 +479,22 @@ impl<'a> Expander<'a> {
             chain.push(label.clone());
             let mut d = Diagnostic::new(u.span.clone(), format!("component cycle: {}", chain.join(" -> ")))
                 .hint("a component cannot use itself, directly or through other components");
-            for (l, s) in &stack[k..] {
-                d = d.note(s.clone(), format!("{l} is used here"));
+            for (i, (l, s)) in stack[k..].iter().enumerate() {
+                let what = if k + i == 0 {
+                    format!("{l} is the rig being loaded")
+                } else {
+                    format!("{l} is used here")
+                };
+                d = d.note(s.clone(), what);
             }
             self.diags.push(d);
             return Flat::default();
         }
         if stack.len() > 64 {
-            self.diags.push(Diagnostic::new(u.span.clone(), "components are nested more than 64 deep").hint("flatten the component structure"));
+            self.diags.push(
+                Diagnostic::new(u.span.clone(), "components are nested more than 64 deep")
+                    .hint("flatten the component structure"),
+            );
             return Flat::default();
         }
         stack.push((label, u.span.clone()));
@@ -468,7 +504,9 @@ impl<'a> Expander<'a> {
         if let Some(plane) = u.mirror {
             let names: HashSet<String> = flat.nodes.iter().map(|n| n.name.clone()).collect();
             for node in &mut flat.nodes {
-                let Some(spec) = Self::spec_of(&node.kind).cloned() else { continue };
+                let Some(spec) = Self::spec_of(&node.kind).cloned() else {
+                    continue;
+                };
                 let child = node.parent.as_ref().is_some_and(|p| names.contains(&p.0));
                 let role_attr = |r: MirrorRole| spec.attr_ids().find(|&id| spec.attr(id).mirror == r);
                 let has_jo = role_attr(MirrorRole::JointOrient).is_some();
@@ -485,7 +523,11 @@ impl<'a> Expander<'a> {
                     .unwrap_or(0);
                 if !child {
                     // The root rotation absorbs the mirror even when not authored.
-                    let absorb = if has_jo { MirrorRole::JointOrient } else { MirrorRole::Rotate };
+                    let absorb = if has_jo {
+                        MirrorRole::JointOrient
+                    } else {
+                        MirrorRole::Rotate
+                    };
                     for id in spec.attr_ids() {
                         let a = spec.attr(id);
                         if a.mirror == absorb && a.is_input() && !a.multi && !node.values.iter().any(|v| v.attr == id) {
@@ -617,7 +659,12 @@ pub fn load_rig_with(
         r.connections = r
             .connections
             .iter()
-            .filter_map(|(s, d)| Some((graph.plug_name(graph.plug(s).ok()?), graph.plug_name(graph.plug(d).ok()?))))
+            .filter_map(|(s, d)| {
+                Some((
+                    graph.plug_name(graph.plug(s).ok()?),
+                    graph.plug_name(graph.plug(d).ok()?),
+                ))
+            })
             .collect();
     }
     doc.records = records;
@@ -634,13 +681,7 @@ pub fn load_rig_with(
     })
 }
 
-fn resolve(
-    graph: &Graph,
-    path: &str,
-    span: &Span,
-    broken: &HashSet<&str>,
-    diags: &mut Diagnostics,
-) -> Option<Plug> {
+fn resolve(graph: &Graph, path: &str, span: &Span, broken: &HashSet<&str>, diags: &mut Diagnostics) -> Option<Plug> {
     let parts = match parse_plug_path(path) {
         Ok(p) => p,
         Err(e) => {
@@ -676,7 +717,11 @@ fn resolve(
             };
             let at = span.shifted(node.chars().count() + 1);
             diags.push(
-                Diagnostic::new(at, format!("node `{node}` (type {node_type}) has no attribute `{attr}`")).hint(hint),
+                Diagnostic::new(
+                    at,
+                    format!("node `{node}` (type {node_type}) has no attribute `{attr}`"),
+                )
+                .hint(hint),
             );
             None
         }
@@ -740,7 +785,9 @@ fn build_graph(flat: &Flat, registry: &Arc<Registry>, diags: &mut Diagnostics) -
     }
     let mut edges: HashMap<EdgeKey, (Span, String)> = HashMap::new();
     for (n, id) in flat.nodes.iter().zip(&ids) {
-        let (Some(id), Some((p, pspan))) = (*id, &n.parent) else { continue };
+        let (Some(id), Some((p, pspan))) = (*id, &n.parent) else {
+            continue;
+        };
         if broken.contains(p.as_str()) {
             continue;
         }
@@ -755,7 +802,7 @@ fn build_graph(flat: &Flat, registry: &Arc<Registry>, diags: &mut Diagnostics) -
         match g.set_parent(id, Some(pid)) {
             Ok(()) => {
                 if let Some(dag) = g.node_spec(id).and_then(|s| s.dag.clone()) {
-                    for dst_attr in std::iter::once(dag.parent_matrix).chain(dag.links.iter().map(|l| l.1)) {
+                    for dst_attr in std::iter::once(dag.parent_matrix).chain(dag.links.iter().map(|l| l.child_input)) {
                         if let Some(src) = g.source_of(Plug::new(id, dst_attr)) {
                             edges.insert(
                                 (src.node, src.attr, id, dst_attr),
@@ -765,7 +812,10 @@ fn build_graph(flat: &Flat, registry: &Arc<Registry>, diags: &mut Diagnostics) -
                     }
                 }
             }
-            Err(e) => diags.push(Diagnostic::new(pspan.clone(), e.to_string()).hint("only transform-like nodes can be parented, and not under their own children")),
+            Err(e) => diags.push(
+                Diagnostic::new(pspan.clone(), e.to_string())
+                    .hint("only transform-like nodes can be parented, and not under their own children"),
+            ),
         }
     }
     for c in &flat.conns {
@@ -817,7 +867,10 @@ fn build_graph(flat: &Flat, registry: &Arc<Registry>, diags: &mut Diagnostics) -
             Err(Error::AlreadyConnected { dst, existing }) => {
                 let mut diag = Diagnostic::new(c.dst_span.clone(), format!("{dst} is already driven by {existing}"))
                     .hint("an input has one source; remove one of the connections");
-                if let Some(src) = g.source_of(d).or_else(|| (0..3).find_map(|k| g.source_of(d.component(k)))) {
+                if let Some(src) = g
+                    .source_of(d)
+                    .or_else(|| (0..3).find_map(|k| g.source_of(d.component(k))))
+                {
                     if let Some((sp, t)) = edges.get(&(src.node, src.attr, d.node, d.attr)) {
                         diag = diag.note(sp.clone(), t.clone());
                     }
@@ -825,8 +878,11 @@ fn build_graph(flat: &Flat, registry: &Arc<Registry>, diags: &mut Diagnostics) -
                 diags.push(diag);
             }
             Err(Error::ConnectToOutput { dst }) => diags.push(
-                Diagnostic::new(c.dst_span.clone(), format!("cannot connect into {dst}: it is an output"))
-                    .hint("the destination must be an input; are source and destination swapped?"),
+                Diagnostic::new(
+                    c.dst_span.clone(),
+                    format!("cannot connect into {dst}: it is an output"),
+                )
+                .hint("the destination must be an input; are source and destination swapped?"),
             ),
             Err(e) => diags.push(Diagnostic::new(c.src_span.clone(), e.to_string()).hint("check the connection")),
         }

@@ -137,8 +137,7 @@ impl Diagnostics {
     pub fn finish(&mut self) {
         self.errors
             .sort_by(|a, b| (&a.span, &a.message).cmp(&(&b.span, &b.message)));
-        self.errors
-            .dedup_by(|a, b| a.span == b.span && a.message == b.message);
+        self.errors.dedup_by(|a, b| a.span == b.span && a.message == b.message);
     }
 
     /// Every error rendered, one block per error, then a summary line.

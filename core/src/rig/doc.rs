@@ -147,7 +147,16 @@ impl RigDocument {
     }
 }
 
-const RIG_FIELDS: [&str; 8] = ["name", "fps", "frames", "nodes", "connections", "components", "uses", "set"];
+const RIG_FIELDS: [&str; 8] = [
+    "name",
+    "fps",
+    "frames",
+    "nodes",
+    "connections",
+    "components",
+    "uses",
+    "set",
+];
 const BODY_FIELDS: [&str; 4] = ["nodes", "connections", "uses", "set"];
 const USE_FIELDS: [&str; 6] = ["component", "file", "prefix", "rename", "mirror", "set"];
 
@@ -194,7 +203,11 @@ impl Reader<'_> {
         let mut seen: HashMap<&str, &Span> = HashMap::new();
         for it in items {
             let Some((k, ks)) = &it.key else {
-                self.err(&it.value.span, format!("{what} entries need a field name"), "write `name: value`");
+                self.err(
+                    &it.value.span,
+                    format!("{what} entries need a field name"),
+                    "write `name: value`",
+                );
                 continue;
             };
             if !allowed.contains(&k.as_str()) {
@@ -352,8 +365,10 @@ impl Reader<'_> {
                 }
                 Ast::Group { name: None, items } if items.len() == 2 && items.iter().all(|i| i.key.is_none()) => {
                     let (a, b) = (&items[0].value, &items[1].value);
-                    let (Some(s), Some(d)) = (self.string(a, "a connection source"), self.string(b, "a connection destination"))
-                    else {
+                    let (Some(s), Some(d)) = (
+                        self.string(a, "a connection source"),
+                        self.string(b, "a connection destination"),
+                    ) else {
                         continue;
                     };
                     out.push(ConnDecl {
@@ -366,7 +381,10 @@ impl Reader<'_> {
                 }
                 other => self.err(
                     &e.span,
-                    format!("a connection must be a string or a pair of strings, found {}", other.describe()),
+                    format!(
+                        "a connection must be a string or a pair of strings, found {}",
+                        other.describe()
+                    ),
                     "write \"src.attr -> dst.attr\" or (\"src.attr\", \"dst.attr\")",
                 ),
             }
@@ -467,7 +485,11 @@ impl Reader<'_> {
     fn rename(&mut self, v: &Node) -> Option<Vec<(String, String)>> {
         let hint = "write rename: [(\"_L\", \"_R\")]";
         let Ast::List(items) = &v.kind else {
-            self.err(&v.span, format!("rename must be a list of pairs, found {}", v.kind.describe()), hint);
+            self.err(
+                &v.span,
+                format!("rename must be a list of pairs, found {}", v.kind.describe()),
+                hint,
+            );
             return None;
         };
         let mut out = Vec::new();
@@ -479,7 +501,11 @@ impl Reader<'_> {
                     }
                     _ => self.err(&it.span, "a rename pair is two strings, the first not empty", hint),
                 },
-                _ => self.err(&it.span, format!("expected a pair (\"from\", \"to\"), found {}", it.kind.describe()), hint),
+                _ => self.err(
+                    &it.span,
+                    format!("expected a pair (\"from\", \"to\"), found {}", it.kind.describe()),
+                    hint,
+                ),
             }
         }
         Some(out)
@@ -495,7 +521,11 @@ pub fn read_document(root: &Node, path: &Arc<Path>, diags: &mut Diagnostics) -> 
     let mut r = Reader { diags };
     if let Ast::Group { name: Some(n), .. } = &root.kind {
         if n != "Rig" {
-            r.err(&root.span, format!("a rig file must start with `Rig(`, found `{n}(`"), format!("e.g. {}", example_rig()));
+            r.err(
+                &root.span,
+                format!("a rig file must start with `Rig(`, found `{n}(`"),
+                format!("e.g. {}", example_rig()),
+            );
         }
     }
     let fields = r.fields(root, &RIG_FIELDS, "Rig");
@@ -504,7 +534,11 @@ pub fn read_document(root: &Node, path: &Arc<Path>, diags: &mut Diagnostics) -> 
             "name" => doc.name = r.string(v, "name"),
             "fps" => match v.kind.as_f64() {
                 Some(x) if x > 0.0 => doc.fps = Some(x),
-                _ => r.err(&v.span, format!("fps must be a positive number, found {}", v.kind.describe()), "e.g. fps: 24.0"),
+                _ => r.err(
+                    &v.span,
+                    format!("fps must be a positive number, found {}", v.kind.describe()),
+                    "e.g. fps: 24.0",
+                ),
             },
             "frames" => match v.kind.tuple_items().as_deref() {
                 Some([a, b]) if a.kind.as_f64().is_some() && b.kind.as_f64().is_some() => {
@@ -512,7 +546,10 @@ pub fn read_document(root: &Node, path: &Arc<Path>, diags: &mut Diagnostics) -> 
                 }
                 _ => r.err(
                     &v.span,
-                    format!("frames must be a (first, last) pair of numbers, found {}", v.kind.describe()),
+                    format!(
+                        "frames must be a (first, last) pair of numbers, found {}",
+                        v.kind.describe()
+                    ),
                     "e.g. frames: (1, 48)",
                 ),
             },
@@ -526,7 +563,9 @@ pub fn read_document(root: &Node, path: &Arc<Path>, diags: &mut Diagnostics) -> 
                     continue;
                 };
                 for (ck, cv) in entries {
-                    let Some(name) = r.string(ck, "a component name") else { continue };
+                    let Some(name) = r.string(ck, "a component name") else {
+                        continue;
+                    };
                     if let Some(first) = doc.components.iter().find(|c| c.name == name) {
                         let first = first.span.clone();
                         r.diags.push(
@@ -641,7 +680,7 @@ pub struct PrintNode<'a> {
     pub fields: Vec<(String, Ast)>,
 }
 
-const LINE: usize = 110;
+const LINE: usize = 120;
 
 fn print_node(out: &mut String, ind: &str, n: &PrintNode<'_>) {
     let mut parts: Vec<String> = Vec::new();
@@ -696,7 +735,11 @@ fn print_use(u: &UseDecl) -> String {
     if let Some(p) = u.mirror {
         parts.push(format!("mirror: {}", p.name()));
     }
-    let default_rename = UseDecl { rename: None, ..u.clone() }.renames();
+    let default_rename = UseDecl {
+        rename: None,
+        ..u.clone()
+    }
+    .renames();
     if let Some(r) = &u.rename {
         if *r != default_rename {
             let pairs: Vec<String> = r.iter().map(|(a, b)| format!("({}, {})", q(a), q(b))).collect();

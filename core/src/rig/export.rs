@@ -31,11 +31,16 @@ pub fn to_dot(graph: &Graph) -> String {
         o
     };
     for id in graph.nodes() {
-        let (Some(n), Some(t)) = (graph.node_name(id), graph.node_type(id)) else { continue };
+        let (Some(n), Some(t)) = (graph.node_name(id), graph.node_type(id)) else {
+            continue;
+        };
         let _ = writeln!(out, "    {} [label={}];", q(n), q(&format!("{n}\n{t}")));
     }
     for id in graph.nodes() {
-        if let (Some(p), Some(n)) = (graph.parent_of(id).and_then(|p| graph.node_name(p)), graph.node_name(id)) {
+        if let (Some(p), Some(n)) = (
+            graph.parent_of(id).and_then(|p| graph.node_name(p)),
+            graph.node_name(id),
+        ) {
             let _ = writeln!(out, "    {} -> {} [style=dashed, arrowhead=none];", q(p), q(n));
         }
     }
@@ -44,7 +49,9 @@ pub fn to_dot(graph: &Graph) -> String {
             continue;
         }
         let (sn, dn) = (graph.plug_name(s), graph.plug_name(d));
-        let (Some(a), Some(b)) = (graph.node_name(s.node), graph.node_name(d.node)) else { continue };
+        let (Some(a), Some(b)) = (graph.node_name(s.node), graph.node_name(d.node)) else {
+            continue;
+        };
         let label = format!("{} -> {}", &sn[a.len() + 1..], &dn[b.len() + 1..]);
         let _ = writeln!(out, "    {} -> {} [label={}];", q(a), q(b), q(&label));
     }

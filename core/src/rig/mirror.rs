@@ -212,18 +212,36 @@ mod tests {
             Value::Vec3(v) => v,
             _ => panic!(),
         };
-        assert_eq!(v(mirror_value(MirrorRole::Translate, &t, &cx(false, true))), DVec3::new(-1.0, 2.0, 3.0));
-        assert_eq!(v(mirror_value(MirrorRole::Translate, &t, &cx(true, true))), DVec3::new(-1.0, -2.0, -3.0));
-        assert_eq!(v(mirror_value(MirrorRole::WorldVector, &t, &cx(true, true))), DVec3::new(-1.0, 2.0, 3.0));
-        assert_eq!(v(mirror_value(MirrorRole::LocalVector, &t, &cx(false, true))), DVec3::new(-1.0, -2.0, -3.0));
+        assert_eq!(
+            v(mirror_value(MirrorRole::Translate, &t, &cx(false, true))),
+            DVec3::new(-1.0, 2.0, 3.0)
+        );
+        assert_eq!(
+            v(mirror_value(MirrorRole::Translate, &t, &cx(true, true))),
+            DVec3::new(-1.0, -2.0, -3.0)
+        );
+        assert_eq!(
+            v(mirror_value(MirrorRole::WorldVector, &t, &cx(true, true))),
+            DVec3::new(-1.0, 2.0, 3.0)
+        );
+        assert_eq!(
+            v(mirror_value(MirrorRole::LocalVector, &t, &cx(false, true))),
+            DVec3::new(-1.0, -2.0, -3.0)
+        );
         // Root joint with zero orientation: jointOrient becomes 180 about X (YZ plane).
         let z = Value::Vec3(DVec3::ZERO);
         let jo = v(mirror_value(MirrorRole::JointOrient, &z, &cx(false, true)));
         assert!((jo.x.abs() - 180.0).abs() < 1e-9 && jo.y == 0.0 && jo.z == 0.0, "{jo}");
         // A joint's rotate is kept; a child's jointOrient is kept.
         let r = Value::Vec3(DVec3::new(10.0, 20.0, 30.0));
-        assert_eq!(v(mirror_value(MirrorRole::Rotate, &r, &cx(false, true))), DVec3::new(10.0, 20.0, 30.0));
-        assert_eq!(v(mirror_value(MirrorRole::JointOrient, &r, &cx(true, true))), DVec3::new(10.0, 20.0, 30.0));
+        assert_eq!(
+            v(mirror_value(MirrorRole::Rotate, &r, &cx(false, true))),
+            DVec3::new(10.0, 20.0, 30.0)
+        );
+        assert_eq!(
+            v(mirror_value(MirrorRole::JointOrient, &r, &cx(true, true))),
+            DVec3::new(10.0, 20.0, 30.0)
+        );
     }
 
     /// The defining identity: mirrored world matrix = S W N, for a root and
@@ -236,8 +254,16 @@ mod tests {
             let local = |t: DVec3, r: DVec3, jo: DVec3| {
                 DMat4::from_translation(t) * DMat4::from_quat(euler_to_quat(jo, 0) * euler_to_quat(r, 0))
             };
-            let (t1, r1, jo1) = (DVec3::new(0.3, 1.5, -0.2), DVec3::new(10.0, 20.0, 30.0), DVec3::new(0.0, 15.0, -90.0));
-            let (t2, r2, jo2) = (DVec3::new(0.4, 0.1, 0.05), DVec3::new(-5.0, 40.0, 3.0), DVec3::new(12.0, 0.0, 7.0));
+            let (t1, r1, jo1) = (
+                DVec3::new(0.3, 1.5, -0.2),
+                DVec3::new(10.0, 20.0, 30.0),
+                DVec3::new(0.0, 15.0, -90.0),
+            );
+            let (t2, r2, jo2) = (
+                DVec3::new(0.4, 0.1, 0.05),
+                DVec3::new(-5.0, 40.0, 3.0),
+                DVec3::new(12.0, 0.0, 7.0),
+            );
             let w1 = local(t1, r1, jo1);
             let w2 = w1 * local(t2, r2, jo2);
             let m = |role, x: DVec3, child: bool| match mirror_value(

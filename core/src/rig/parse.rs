@@ -140,8 +140,11 @@ pub fn parse(text: &str, file: &Arc<Path>) -> Result<Node, Diagnostic> {
     let v = p.value()?;
     p.skip_ws()?;
     if p.peek().is_some() {
-        return Err(Diagnostic::new(p.span(), format!("unexpected {} after the end of the rig", p.describe_here()))
-            .hint("a rig file holds exactly one value; check for an extra closing bracket"));
+        return Err(Diagnostic::new(
+            p.span(),
+            format!("unexpected {} after the end of the rig", p.describe_here()),
+        )
+        .hint("a rig file holds exactly one value; check for an extra closing bracket"));
     }
     Ok(v)
 }
@@ -251,7 +254,10 @@ impl<'a> Parser<'a> {
         self.skip_ws()?;
         let span = self.span();
         let Some(c) = self.peek() else {
-            return self.err("unexpected end of file, expected a value", "close every `(`, `[` and `{`");
+            return self.err(
+                "unexpected end of file, expected a value",
+                "close every `(`, `[` and `{`",
+            );
         };
         let kind = match c {
             b'(' => self.group(None)?,
@@ -275,7 +281,12 @@ impl<'a> Parser<'a> {
                     }
                 }
             }
-            b'\'' => return self.err("character literals are not used in rig files", "write text in double quotes: \"name\""),
+            b'\'' => {
+                return self.err(
+                    "character literals are not used in rig files",
+                    "write text in double quotes: \"name\"",
+                )
+            }
             _ => {
                 return self.err(
                     format!("expected a value, found {}", self.describe_here()),
@@ -327,7 +338,11 @@ impl<'a> Parser<'a> {
                 &format!("close it with `{}`", close as char),
             ),
             _ => self.err(
-                format!("expected `,` or `{}` in {what}, found {}", close as char, self.describe_here()),
+                format!(
+                    "expected `,` or `{}` in {what}, found {}",
+                    close as char,
+                    self.describe_here()
+                ),
                 "separate entries with commas",
             ),
         }
@@ -368,8 +383,11 @@ impl<'a> Parser<'a> {
         let named = items.iter().filter(|i| i.key.is_some()).count();
         if named != 0 && named != items.len() {
             let bad = items.iter().find(|i| i.key.is_none()).map(|i| i.value.span.clone());
-            return Err(Diagnostic::new(bad.unwrap_or_else(|| self.span()), "this entry has no field name, but the others do")
-                .hint("write every entry of a struct as `name: value`"));
+            return Err(Diagnostic::new(
+                bad.unwrap_or_else(|| self.span()),
+                "this entry has no field name, but the others do",
+            )
+            .hint("write every entry of a struct as `name: value`"));
         }
         self.depth -= 1;
         Ok(Ast::Group { name, items })
@@ -523,7 +541,10 @@ impl<'a> Parser<'a> {
             let word = self.ident();
             return match word.as_str() {
                 "inf" | "NaN" | "nan" | "infinity" => self.err("numbers must be finite", "give a finite number"),
-                _ => self.err(format!("expected a number after the sign, found `{word}`"), "write numbers like -1.5"),
+                _ => self.err(
+                    format!("expected a number after the sign, found `{word}`"),
+                    "write numbers like -1.5",
+                ),
             };
         }
         let mut is_float = false;
@@ -535,7 +556,9 @@ impl<'a> Parser<'a> {
             p.pos > s
         };
         let int_digits = digits(self);
-        if self.peek() == Some(b'.') && self.peek_at(1).is_some_and(|c| c.is_ascii_digit()) || (self.peek() == Some(b'.') && int_digits) {
+        if self.peek() == Some(b'.') && self.peek_at(1).is_some_and(|c| c.is_ascii_digit())
+            || (self.peek() == Some(b'.') && int_digits)
+        {
             is_float = true;
             self.bump();
             digits(self);

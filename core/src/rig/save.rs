@@ -61,20 +61,24 @@ fn authored(g: &Graph, node: NodeId, attr: AttrId, a: &AttrSpec) -> Vec<Authored
 
 /// Whether `src -> dst` is a link made by parenting (`parent:`), not by the user.
 pub(crate) fn is_parent_link(g: &Graph, src: Plug, dst: Plug) -> bool {
-    let Some(parent) = g.parent_of(dst.node) else { return false };
+    let Some(parent) = g.parent_of(dst.node) else {
+        return false;
+    };
     if src.node != parent || dst.index.is_some() || dst.component.is_some() {
         return false;
     }
     let (Some(cs), Some(ps)) = (g.node_spec(dst.node), g.node_spec(parent)) else {
         return false;
     };
-    let (Some(cd), Some(pd)) = (&cs.dag, &ps.dag) else { return false };
+    let (Some(cd), Some(pd)) = (&cs.dag, &ps.dag) else {
+        return false;
+    };
     if dst.attr == cd.parent_matrix {
         return src.attr == pd.world_matrix;
     }
     cd.links
         .iter()
-        .any(|(pa, ca)| *ca == dst.attr && ps.find(pa).map(|x| x.0) == Some(src.attr))
+        .any(|l| l.child_input == dst.attr && ps.find(&l.parent_attr).map(|x| x.0) == Some(src.attr))
 }
 
 /// Connections the user made (parenting links left out), as plug names.
@@ -133,7 +137,10 @@ pub fn save_rig(graph: &Graph, doc: &RigDocument) -> String {
             }
             ids.push(id);
         }
-        ok &= rec.connections.iter().all(|(s, d)| conn_set.contains(&(s.as_str(), d.as_str())));
+        ok &= rec
+            .connections
+            .iter()
+            .all(|(s, d)| conn_set.contains(&(s.as_str(), d.as_str())));
         if ok {
             for (k, id) in ids.into_iter().enumerate() {
                 owned.insert(id, (ui, k));
@@ -143,7 +150,12 @@ pub fn save_rig(graph: &Graph, doc: &RigDocument) -> String {
     }
     let rec_conns: HashSet<(&str, &str)> = valid_uses
         .iter()
-        .flat_map(|&ui| doc.records[ui].connections.iter().map(|(s, d)| (s.as_str(), d.as_str())))
+        .flat_map(|&ui| {
+            doc.records[ui]
+                .connections
+                .iter()
+                .map(|(s, d)| (s.as_str(), d.as_str()))
+        })
         .collect();
 
     // Node order: the document's, then new nodes in creation order.
@@ -200,7 +212,12 @@ pub fn save_rig(graph: &Graph, doc: &RigDocument) -> String {
                 let ast = if dense {
                     Ast::List(undriven.into_iter().map(|(_, v)| syn(v)).collect())
                 } else {
-                    Ast::Map(undriven.into_iter().map(|(i, v)| (syn(Ast::Int(i as i64)), syn(v))).collect())
+                    Ast::Map(
+                        undriven
+                            .into_iter()
+                            .map(|(i, v)| (syn(Ast::Int(i as i64)), syn(v)))
+                            .collect(),
+                    )
                 };
                 fields.push((a.name.clone(), ast));
                 continue;
@@ -248,7 +265,11 @@ pub fn save_rig(graph: &Graph, doc: &RigDocument) -> String {
                 let created = !a.multi || rn.values.iter().any(|(x, i, _)| *x == attr && *i == e.index);
                 if e.driven_comps == [false; 3] {
                     if !created || !v.same_bits(expected) {
-                        set.push((rank[&id], plug_path(&rn.name, a, e.index, None), write_value(v, Some(a))));
+                        set.push((
+                            rank[&id],
+                            plug_path(&rn.name, a, e.index, None),
+                            write_value(v, Some(a)),
+                        ));
                     }
                 } else if let (Value::Vec3(x), Value::Vec3(d)) = (v, expected) {
                     for c in 0..3 {
@@ -265,7 +286,13 @@ pub fn save_rig(graph: &Graph, doc: &RigDocument) -> String {
     let mut connections: Vec<(usize, String, String)> = conns
         .iter()
         .filter(|c| !rec_conns.contains(&(c.2.as_str(), c.3.as_str())))
-        .map(|c| (rank.get(&c.1.node).copied().unwrap_or(usize::MAX), c.2.clone(), c.3.clone()))
+        .map(|c| {
+            (
+                rank.get(&c.1.node).copied().unwrap_or(usize::MAX),
+                c.2.clone(),
+                c.3.clone(),
+            )
+        })
         .collect();
     connections.sort_by(|a, b| (a.0, &a.2, &a.1).cmp(&(b.0, &b.2, &b.1)));
 
@@ -283,7 +310,11 @@ pub fn save_rig(graph: &Graph, doc: &RigDocument) -> String {
 /// and connections. `Err` describes the first difference.
 pub fn graph_eq(a: &Graph, b: &Graph) -> Result<(), String> {
     let names = |g: &Graph| -> Vec<String> {
-        let mut v: Vec<String> = g.nodes().iter().filter_map(|&id| g.node_name(id).map(str::to_string)).collect();
+        let mut v: Vec<String> = g
+            .nodes()
+            .iter()
+            .filter_map(|&id| g.node_name(id).map(str::to_string))
+            .collect();
         v.sort();
         v
     };
@@ -291,7 +322,9 @@ pub fn graph_eq(a: &Graph, b: &Graph) -> Result<(), String> {
     if na != nb {
         let only_a: Vec<&String> = na.iter().filter(|n| !nb.contains(n)).collect();
         let only_b: Vec<&String> = nb.iter().filter(|n| !na.contains(n)).collect();
-        return Err(format!("node sets differ: only in first {only_a:?}, only in second {only_b:?}"));
+        return Err(format!(
+            "node sets differ: only in first {only_a:?}, only in second {only_b:?}"
+        ));
     }
     for name in &na {
         let (Some(ia), Some(ib)) = (a.find_node(name), b.find_node(name)) else {
@@ -327,10 +360,8 @@ pub fn graph_eq(a: &Graph, b: &Graph) -> Result<(), String> {
                             }
                         }
                     }
-                    (Some(u), Some(v)) if x.driven_comps == [false; 3] => {
-                        if !u.same_bits(v) {
-                            return Err(format!("{name}.{}{:?}: {u} vs {v}", at.name, x.index));
-                        }
+                    (Some(u), Some(v)) if x.driven_comps == [false; 3] && !u.same_bits(v) => {
+                        return Err(format!("{name}.{}{:?}: {u} vs {v}", at.name, x.index));
                     }
                     _ => {}
                 }
@@ -338,7 +369,11 @@ pub fn graph_eq(a: &Graph, b: &Graph) -> Result<(), String> {
         }
     }
     let conns = |g: &Graph| -> Vec<(String, String)> {
-        let mut v: Vec<(String, String)> = g.connections().into_iter().map(|(s, d)| (g.plug_name(s), g.plug_name(d))).collect();
+        let mut v: Vec<(String, String)> = g
+            .connections()
+            .into_iter()
+            .map(|(s, d)| (g.plug_name(s), g.plug_name(d)))
+            .collect();
         v.sort();
         v
     };
@@ -346,7 +381,9 @@ pub fn graph_eq(a: &Graph, b: &Graph) -> Result<(), String> {
     if ca != cb {
         let only_a: Vec<_> = ca.iter().filter(|c| !cb.contains(c)).collect();
         let only_b: Vec<_> = cb.iter().filter(|c| !ca.contains(c)).collect();
-        return Err(format!("connections differ: only in first {only_a:?}, only in second {only_b:?}"));
+        return Err(format!(
+            "connections differ: only in first {only_a:?}, only in second {only_b:?}"
+        ));
     }
     Ok(())
 }

@@ -22,7 +22,9 @@ pub fn example(ty: AttrType, attr: Option<&AttrSpec>) -> String {
         AttrType::Float => "1.5".into(),
         AttrType::Vec3 => "(0.0, 1.5, 0.0)".into(),
         AttrType::Quat => "(0.0, 0.0, 0.0, 1.0) (x, y, z, w)".into(),
-        AttrType::Matrix => "(1, 0, 0, 0,  0, 1, 0, 0,  0, 0, 1, 0,  tx, ty, tz, 1) (16 numbers, row by row as Maya prints it)".into(),
+        AttrType::Matrix => {
+            "(1, 0, 0, 0,  0, 1, 0, 0,  0, 0, 1, 0,  tx, ty, tz, 1) (16 numbers, row by row as Maya prints it)".into()
+        }
         AttrType::Enum => match attr {
             Some(a) if !a.enum_names.is_empty() => format!("one of {}", a.enum_names.join(", ")),
             _ => "an enum index such as 0".into(),
@@ -84,8 +86,10 @@ fn fields<'a>(n: &'a Node, what: &str, ty: AttrType, allowed: &[&str]) -> Result
             return Err(wrong(n, what, ty, None));
         };
         if !allowed.contains(&k.as_str()) {
-            return Err(Diagnostic::new(ks.clone(), format!("unknown field `{k}` in {ty} value"))
-                .hint(format!("{ty} fields are: {}", allowed.join(", "))));
+            return Err(
+                Diagnostic::new(ks.clone(), format!("unknown field `{k}` in {ty} value"))
+                    .hint(format!("{ty} fields are: {}", allowed.join(", "))),
+            );
         }
         out.push((k.as_str(), value));
     }
@@ -144,7 +148,11 @@ pub fn read_value(n: &Node, ty: AttrType, attr: Option<&AttrSpec>, what: &str) -
                             Some(x) => format!("did you mean `{x}`? choices: {}", names.join(", ")),
                             None => format!("write {}", example(ty, attr)),
                         };
-                        return Err(Diagnostic::new(n.span.clone(), format!("{what}: `{s}` is not one of its choices")).hint(hint));
+                        return Err(Diagnostic::new(
+                            n.span.clone(),
+                            format!("{what}: `{s}` is not one of its choices"),
+                        )
+                        .hint(hint));
                     }
                 },
                 _ => return Err(wrong(n, what, ty, attr)),
@@ -176,7 +184,10 @@ pub fn read_value(n: &Node, ty: AttrType, attr: Option<&AttrSpec>, what: &str) -
                 .collect::<Result<_, _>>()?,
         )),
         AttrType::MatrixArray => Value::MatrixArray(Arc::new(
-            list(n, what, ty)?.iter().map(|x| matrix(x, what)).collect::<Result<_, _>>()?,
+            list(n, what, ty)?
+                .iter()
+                .map(|x| matrix(x, what))
+                .collect::<Result<_, _>>()?,
         )),
         AttrType::Curve => {
             let mut c = Curve::default();
@@ -184,7 +195,12 @@ pub fn read_value(n: &Node, ty: AttrType, attr: Option<&AttrSpec>, what: &str) -
                 match k {
                     "degree" => match v.kind {
                         Ast::Int(d) if (1..=7).contains(&d) => c.degree = d as u32,
-                        _ => return Err(Diagnostic::new(v.span.clone(), "curve degree must be an integer from 1 to 7").hint("e.g. degree: 3")),
+                        _ => {
+                            return Err(
+                                Diagnostic::new(v.span.clone(), "curve degree must be an integer from 1 to 7")
+                                    .hint("e.g. degree: 3"),
+                            )
+                        }
                     },
                     "points" => {
                         c.points = list(v, what, AttrType::Vec3Array)?
@@ -202,7 +218,12 @@ pub fn read_value(n: &Node, ty: AttrType, attr: Option<&AttrSpec>, what: &str) -
                         c.form = match v.kind.as_str() {
                             Some("open") => CurveForm::Open,
                             Some("periodic") => CurveForm::Periodic,
-                            _ => return Err(Diagnostic::new(v.span.clone(), "curve form must be `open` or `periodic`").hint("e.g. form: periodic")),
+                            _ => {
+                                return Err(
+                                    Diagnostic::new(v.span.clone(), "curve form must be `open` or `periodic`")
+                                        .hint("e.g. form: periodic"),
+                                )
+                            }
                         }
                     }
                 }
@@ -211,7 +232,9 @@ pub fn read_value(n: &Node, ty: AttrType, attr: Option<&AttrSpec>, what: &str) -
         }
         AttrType::Mesh => {
             let mut m = Mesh::default();
-            let v3 = |x: &Node| numbers::<3>(x, what, AttrType::Vec3).map(|a| Vec3::new(f32_of(a[0]), f32_of(a[1]), f32_of(a[2])));
+            let v3 = |x: &Node| {
+                numbers::<3>(x, what, AttrType::Vec3).map(|a| Vec3::new(f32_of(a[0]), f32_of(a[1]), f32_of(a[2])))
+            };
             for (k, v) in fields(n, what, ty, &["positions", "normals", "uvs", "triangles"])? {
                 let items = list(v, what, ty)?;
                 match k {
@@ -231,15 +254,19 @@ pub fn read_value(n: &Node, ty: AttrType, attr: Option<&AttrSpec>, what: &str) -
                                 if a.iter().all(|&i| i >= 0.0 && i.fract() == 0.0 && i <= u32::MAX as f64) {
                                     Ok([a[0] as u32, a[1] as u32, a[2] as u32])
                                 } else {
-                                    Err(Diagnostic::new(x.span.clone(), "triangle indices must be non-negative integers")
-                                        .hint("e.g. (0, 1, 2)"))
+                                    Err(Diagnostic::new(
+                                        x.span.clone(),
+                                        "triangle indices must be non-negative integers",
+                                    )
+                                    .hint("e.g. (0, 1, 2)"))
                                 }
                             })
                             .collect::<Result<_, _>>()?
                     }
                 }
             }
-            m.validate().map_err(|e| Diagnostic::new(n.span.clone(), format!("{what}: {e}")).hint("fix the mesh data"))?;
+            m.validate()
+                .map_err(|e| Diagnostic::new(n.span.clone(), format!("{what}: {e}")).hint("fix the mesh data"))?;
             Value::Mesh(Arc::new(m))
         }
         AttrType::Weights => {
@@ -249,20 +276,26 @@ pub fn read_value(n: &Node, ty: AttrType, attr: Option<&AttrSpec>, what: &str) -
                 for pair in list(vtx, what, ty)? {
                     let [j, w] = numbers::<2>(pair, what, ty)?;
                     if j < 0.0 || j.fract() != 0.0 || j > u32::MAX as f64 {
-                        return Err(Diagnostic::new(pair.span.clone(), "a joint index must be a non-negative integer")
-                            .hint("write (joint, weight) pairs like (0, 0.5)"));
+                        return Err(
+                            Diagnostic::new(pair.span.clone(), "a joint index must be a non-negative integer")
+                                .hint("write (joint, weight) pairs like (0, 0.5)"),
+                        );
                     }
                     infl.push((j as u32, w as f32));
                 }
                 per_vertex.push(infl);
             }
             let w = Weights::from_lists(per_vertex);
-            w.validate().map_err(|e| Diagnostic::new(n.span.clone(), format!("{what}: {e}")).hint("fix the weights"))?;
+            w.validate()
+                .map_err(|e| Diagnostic::new(n.span.clone(), format!("{what}: {e}")).hint("fix the weights"))?;
             Value::Weights(Arc::new(w))
         }
         AttrType::Object => {
-            return Err(Diagnostic::new(n.span.clone(), format!("{what} holds computed plugin data and cannot be written"))
-                .hint("remove it; object attributes are filled by their node"))
+            return Err(Diagnostic::new(
+                n.span.clone(),
+                format!("{what} holds computed plugin data and cannot be written"),
+            )
+            .hint("remove it; object attributes are filled by their node"))
         }
     };
     if !v.is_finite() {

@@ -30,23 +30,20 @@
 //! times, a key with a time but no value, a negative weight, an unknown
 //! tangent index) are a `ComputeError` naming the key index and the fix.
 //!
-//! The keys build `curveCache`, and `output` evaluates the curve at the time
-//! / `input`; see [`AnimCurveNode`] for the compute groups.
-//!
-//! # Pending core support (performance)
-//! The intended design is "group 1: keys → `curveCache`; group 2:
-//! `curveCache` + time/`input` → `output`; per frame only group 2 runs". The
-//! core cannot express it yet: `affects` only goes from inputs to outputs (a
-//! group cannot read another group's output), and `time_dependent()` makes
-//! every group of the node a frame step. Once the core has (a) output →
-//! output `affects` within a node and (b) per-output time dependence, change
-//! the output group's inputs to `curveCache` (+ `input`) and read the cache
-//! with `ctx.get`, instead of calling `build` in the output group.
+//! # Compute groups (the precompute pattern)
+//! Group 1: the key attributes, infinities and `weightedTangents` build
+//! `curveCache` (an `Object` holding a [`CurveCache`]); this is where invalid
+//! keys are reported. Group 2: `output` reads `curveCache` (with
+//! `ctx.get_output`) and evaluates it at the time (TL/TA/TU, declared with
+//! `time_affects(&[output])`) or at `input` (UL/UA/UU). So a frame change or a
+//! moving driver re-runs only group 2 (one curve evaluation, no rebuild); the
+//! curve is rebuilt only when a key attribute changes.
 
 use std::f64::consts::PI;
 
-use sinew_core::value::ObjectRef;
-use sinew_core::{ComputeContext, ComputeError, Input, MultiInput, NodeSpec, NodeType, Output, SpecError, Unit};
+use sinew_core::{
+    ComputeContext, ComputeError, Input, MultiInput, NodeSpec, NodeType, ObjectRef, Output, SpecError, Unit,
+};
 
 use super::curve::{AnimCurve, CurveError, Infinity, Key, TangentType, CLAMPED_TOLERANCE};
 use crate::math::finite;
@@ -141,15 +138,10 @@ impl CurveCache {
 
 /// An animCurve node type (one struct for the six kinds).
 ///
-/// Groups: driven curves (UL/UA/UU) have two: `curveCache` ← key attributes,
-/// infinities, `weightedTangents`; `output` ← the same plus `input`, so a
-/// moving driver re-runs only the output group. Time curves (TL/TA/TU) have
-/// one group with both outputs (time is not an attribute, so both depend on
-/// the same inputs). With the current core a group cannot read another
-/// group's output and time dependence is per node, so the output group
-/// rebuilds the curve from the keys each time it runs (identical result,
-/// more work per frame); the module docs name the core change that lets it
-/// read `curveCache` instead.
+/// Two compute groups: `curveCache` ← key attributes, infinities,
+/// `weightedTangents`; `output` ← `curveCache` and `input` (driven curves) or
+/// time (time curves; only this group reads it). Per frame, or when the
+/// driver moves, only the output group runs; see the module docs.
 pub struct AnimCurveNode {
     spec: NodeSpec,
     kind: CurveKind,
@@ -180,8 +172,8 @@ impl AnimCurveNode {
         });
         let key_time = s.multi_input("keyTime", 0.0);
         let key_value = s.multi_input("keyValue", 0.0);
-        let in_type = s.multi_input("keyInTangentType", AUTO);
-        let out_type = s.multi_input("keyOutTangentType", AUTO);
+        let in_type = s.multi_input_enum("keyInTangentType", &TANGENT_NAMES, AUTO);
+        let out_type = s.multi_input_enum("keyOutTangentType", &TANGENT_NAMES, AUTO);
         let in_angle = s.multi_input("keyInAngle", 0.0);
         let out_angle = s.multi_input("keyOutAngle", 0.0);
         let in_weight = s.multi_input("keyInWeight", 1.0);
@@ -204,11 +196,11 @@ impl AnimCurveNode {
         );
         s.attr_doc(
             in_type,
-            "in tangent type: index into linear, step, stepnext, flat, spline, clamped, auto, fixed, plateau",
+            "in tangent type: linear, step, stepnext, flat, spline, clamped, auto, fixed, plateau",
         );
         s.attr_doc(
             out_type,
-            "out tangent type: index into linear, step, stepnext, flat, spline, clamped, auto, fixed, plateau",
+            "out tangent type: linear, step, stepnext, flat, spline, clamped, auto, fixed, plateau",
         );
         s.attr_doc(
             in_angle,
@@ -218,7 +210,10 @@ impl AnimCurveNode {
             in_weight,
             "in handle length (weighted curves); absent = one third of the span",
         );
-        s.attr_doc(cache, "the built curve (internal; read by `output`)");
+        s.attr_doc(
+            cache,
+            "the built curve (internal; rebuilt when keys change, read by `output`)",
+        );
         let keys = [
             key_time.id(),
             key_value.id(),
@@ -232,13 +227,14 @@ impl AnimCurveNode {
             post.id(),
             weighted.id(),
         ];
-        s.affects(&keys, &[cache.id(), output.id()]);
+        s.affects(&keys, &[cache.id()]);
+        s.affects(&[cache.id()], &[output.id()]);
         if let Some(i) = input {
             s.affects(&[i.id()], &[output.id()]);
             s.keyable(i, true);
         }
         if kind.time_driven() {
-            s.time_dependent();
+            s.time_affects(&[output.id()]);
         }
         Ok(AnimCurveNode {
             spec: s.build()?,
@@ -356,16 +352,20 @@ impl AnimCurveNode {
     }
 
     fn run(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
-        let cache = self.build(ctx)?;
+        if ctx.wants(self.cache) {
+            let cache = self.build(ctx)?;
+            ctx.set(self.cache, ObjectRef::new(cache));
+        }
         if ctx.wants(self.output) {
             let t = match self.input {
                 Some(h) => ctx.get(h),
                 None => ctx.time().frame,
             };
+            let cache = ctx.get_output(self.cache);
+            let cache = cache.downcast::<CurveCache>().ok_or_else(|| {
+                ComputeError::new("curveCache holds no built curve (the key group has not run); re-evaluate the node")
+            })?;
             ctx.set(self.output, cache.output_at(t));
-        }
-        if ctx.wants(self.cache) {
-            ctx.set(self.cache, ObjectRef::new(cache));
         }
         Ok(())
     }

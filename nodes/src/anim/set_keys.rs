@@ -51,8 +51,8 @@ pub fn set_keys(graph: &mut Graph, node: NodeId, keys: &[Key]) -> Result<(), Err
         let plug = |k: usize| Plug::new(node, attrs[k]).at(i);
         graph.set(plug(0), Value::Float(key.time))?;
         graph.set(plug(1), Value::Float(key.value))?;
-        graph.set(plug(2), Value::Int(tangent_index(key.in_tangent)))?;
-        graph.set(plug(3), Value::Int(tangent_index(key.out_tangent)))?;
+        graph.set(plug(2), Value::Enum(tangent_index(key.in_tangent)))?;
+        graph.set(plug(3), Value::Enum(tangent_index(key.out_tangent)))?;
         if let Some(a) = key.in_angle {
             graph.set(plug(4), Value::Float(a.to_degrees()))?;
         }

@@ -200,28 +200,58 @@ fn driven_curve_only_output_group_is_a_frame_step() {
     );
     g.connect_path("time_drv.output", "sdk.input").unwrap();
     let program = Program::compile(&g, &CompileOptions::default()).unwrap();
-    // The time curve has one group (without a time attribute its two outputs depend on the
-    // same inputs); the driven curve has two (curveCache ← keys, output ← keys + input).
-    assert_eq!(program.step_count(), 3);
-    // Per frame: the time curve and the driven curve's output group, not its cache group.
+    // Each curve has two groups (curveCache ← keys, output ← curveCache + time / input).
+    assert_eq!(program.step_count(), 4);
+    // Per frame: the output groups of both curves, neither cache group.
     assert_eq!(program.frame_step_count(), 2);
     // Frame 5: driver 1 → sdk 4 (both linear).
     assert!((frames(&mut g, "sdk.output", &[5.0, 7.5])[0] - 4.0).abs() < 1e-12);
 }
 
 #[test]
-#[ignore = "needs per-group time dependence in sinew-core: today every group of a time-dependent node is a frame step"]
 fn time_curve_only_output_group_is_a_frame_step() {
     let mut g = graph();
-    curve_node(
+    let id = g.add_node("animCurveTL", "tx").unwrap();
+    set_keys(
         &mut g,
-        "animCurveTL",
-        "tx",
+        id,
         &[Key::new(0.0, 0.0, T::Linear), Key::new(10.0, 2.0, T::Linear)],
-    );
+    )
+    .unwrap();
+    // Compiled: two steps (cache, output), only the output group re-runs per frame.
     let program = Program::compile(&g, &CompileOptions::default()).unwrap();
     assert_eq!(program.step_count(), 2);
     assert_eq!(program.frame_step_count(), 1);
+    // Lazy: the first pull builds the cache and evaluates (2 computes); linear keys
+    // (0, 0) → (10, 2) give 2 · 5/10 = 1 at frame 5.
+    g.set_time(Time::new(5.0, 24.0));
+    g.reset_stats();
+    assert!((float(g.get_path("tx.output").unwrap()) - 1.0).abs() < 1e-12);
+    assert_eq!(g.stats().computes, 2);
+    // A time change re-runs only the output group: frame 7.5 → 2 · 0.75 = 1.5.
+    g.reset_stats();
+    g.set_time(Time::new(7.5, 24.0));
+    assert!((float(g.get_path("tx.output").unwrap()) - 1.5).abs() < 1e-12);
+    assert_eq!(
+        g.stats().computes,
+        1,
+        "only the output group recomputes on a frame change"
+    );
+    // The cache is the same object across frames (not rebuilt).
+    let before = g.get_path("tx.curveCache").unwrap();
+    g.set_time(Time::new(9.0, 24.0));
+    assert!((float(g.get_path("tx.output").unwrap()) - 1.8).abs() < 1e-12);
+    assert!(before.same_bits(&g.get_path("tx.curveCache").unwrap()));
+    // A key edit rebuilds the cache and re-evaluates (2 computes): keyValue[1] = 4 at frame 9
+    // gives 4 · 0.9 = 3.6.
+    g.reset_stats();
+    g.set_path("tx.keyValue[1]", Value::Float(4.0)).unwrap();
+    assert!((float(g.get_path("tx.output").unwrap()) - 3.6).abs() < 1e-12);
+    assert_eq!(g.stats().computes, 2);
+    // The compiled program agrees frame by frame.
+    // (keys (0, 0) → (10, 4): frame 2.5 → 1, frame 9 → 3.6).
+    let got = frames(&mut g, "tx.output", &[2.5, 9.0]);
+    assert!((got[0] - 1.0).abs() < 1e-12 && (got[1] - 3.6).abs() < 1e-12, "{got:?}");
 }
 
 #[test]
@@ -284,4 +314,21 @@ fn invalid_keys_name_the_index_and_the_fix() {
     g.set_path("c.weightedTangents", Value::Bool(true)).unwrap();
     let e = g.get_path("c.output").unwrap_err().to_string();
     assert!(e.contains("keyInWeight[4]") && e.contains(">= 0"), "{e}");
+}
+
+#[test]
+fn tangent_types_are_named_multi_enums() {
+    let reg = crate::registry().unwrap();
+    for ty in ["animCurveTL", "animCurveUA"] {
+        let spec = reg.spec(ty).unwrap();
+        for name in ["keyInTangentType", "keyOutTangentType"] {
+            let (id, _) = spec.find(name).unwrap();
+            let a = spec.attr(id);
+            assert!(a.multi && a.ty == sinew_core::AttrType::Enum, "{ty}.{name}");
+            assert_eq!(a.enum_names, super::TANGENT_NAMES.map(String::from).to_vec());
+            // Names resolve to the indices the node reads (default auto = 6).
+            assert_eq!(a.enum_index("plateau"), Some(8));
+            assert!(matches!(a.default, Value::Enum(6)));
+        }
+    }
 }

@@ -10,8 +10,8 @@
 //! should rebuild whenever its input topology changes).
 
 use super::bvh::{Aabb, Bvh};
-use crate::data::Mesh;
 use glam::{Vec2, Vec3, Vec3A};
+use sinew_core::data::Mesh;
 
 /// Where a query landed on the surface.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -110,7 +110,7 @@ pub fn closest_point_brute_force(mesh: &Mesh, p: Vec3) -> Option<SurfaceHit> {
     for t in 0..mesh.triangles.len() as u32 {
         if let Some([a, b, c]) = corners(mesh, t) {
             let d = (closest_on_triangle(q, a, b, c).0 - q).length_squared();
-            if best.map_or(true, |(_, bd)| d < bd) {
+            if best.is_none_or(|(_, bd)| d < bd) {
                 best = Some((t, d));
             }
         }

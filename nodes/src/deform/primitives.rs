@@ -14,8 +14,8 @@
 //! Counts below `segments = 3`, `rings = 1` are raised to those minima (as Maya does);
 //! negative, zero or non-finite sizes are an error.
 
-use crate::data::Mesh;
 use glam::{Vec2, Vec3};
+use sinew_core::data::Mesh;
 use std::f32::consts::{FRAC_PI_2, PI, TAU};
 
 /// Why a primitive could not be built.

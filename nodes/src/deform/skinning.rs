@@ -26,13 +26,20 @@
 //! replaced by the rest normal. DQS rotates normals by the blended rotation (after the
 //! cofactor of the blended stretch when joints carry scale).
 //!
-//! Serial and parallel variants run the same per-vertex code, so their results are
-//! bit-identical; the parallel one splits the vertices into chunks of [`CHUNK`].
+//! Summation order: LBS sums influences in row order, except rows of exactly four influences
+//! (the common game-engine case), which take an unrolled, branch-free path summing in pairs
+//! `(m₀w₀ + m₁w₁) + (m₂w₂ + m₃w₃)`. The blended matrix is applied in glam's order, so a single
+//! influence of weight 1 gives exactly `Mat4::transform_point3`.
+//!
+//! Determinism: serial and parallel variants run the same per-vertex code, so their results
+//! are bit-identical; the parallel one splits the vertices into chunks of [`CHUNK`]. On
+//! x86-64 the kernels are also compiled with AVX2 enabled and chosen at run time; no fused
+//! multiply-add is used, so the AVX2 and baseline builds give bit-identical results too.
 
 use super::dual_quat::{DqJoint, DqPalette, DualQuat};
-use crate::data::Weights;
 use glam::{Mat3A, Mat4, Vec3, Vec3A, Vec4};
 use rayon::prelude::*;
+use sinew_core::data::Weights;
 
 /// Vertices per parallel work item.
 pub const CHUNK: usize = 4096;
@@ -224,7 +231,7 @@ impl<'a> Kernel<'a> {
     /// rounding is the same and results are bit-identical on every x86-64 CPU.
     fn run(&self, start: usize, out_p: &mut [Vec3], out_n: &mut [Vec3]) {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") && std::env::var_os("NOAVX").is_none() {
+        if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: `run_avx2` only requires AVX2, which the CPU was just checked to have.
             unsafe { self.run_avx2(start, out_p, out_n) };
             return;
@@ -379,16 +386,15 @@ fn blend4(js: &[u32; 4], ws: &[f32; 4], palette: &[Mat4]) -> Option<[Vec4; 4]> {
         _ => (&ZERO, 0.0),
     };
     let ((m0, w0), (m1, w1), (m2, w2), (m3, w3)) = (pick(0), pick(1), pick(2), pick(3));
-    let (a, b, c, d) = (m0.as_ref(), m1.as_ref(), m2.as_ref(), m3.as_ref());
-    // Plain per-element arithmetic so the vectorizer can use the widest lanes available.
-    let mut r = [0f32; 16];
-    for (e, r) in r.iter_mut().enumerate() {
-        *r = (a[e] * w0 + b[e] * w1) + (c[e] * w2 + d[e] * w3);
-    }
+    let col = |a: Vec4, b: Vec4, c: Vec4, d: Vec4| (a * w0 + b * w1) + (c * w2 + d * w3);
     let sum = (w0 + w1) + (w2 + w3);
     (sum != 0.0).then(|| {
-        let m = Mat4::from_cols_array(&r);
-        [m.x_axis, m.y_axis, m.z_axis, m.w_axis]
+        [
+            col(m0.x_axis, m1.x_axis, m2.x_axis, m3.x_axis),
+            col(m0.y_axis, m1.y_axis, m2.y_axis, m3.y_axis),
+            col(m0.z_axis, m1.z_axis, m2.z_axis, m3.z_axis),
+            col(m0.w_axis, m1.w_axis, m2.w_axis, m3.w_axis),
+        ]
     })
 }
 
@@ -428,4 +434,41 @@ fn cofactor3(m: &Mat3A) -> Mat3A {
         m.z_axis.cross(m.x_axis),
         m.x_axis.cross(m.y_axis),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The AVX2 build and the baseline build must agree bit for bit (no FMA contraction).
+    #[test]
+    fn avx2_and_generic_builds_agree_bitwise() {
+        let (mesh, w, palette) = super::super::tests::random_rig(3000, 24, 11);
+        let blend: Vec<f32> = (0..3000).map(|i| (i % 7) as f32 / 6.0).collect();
+        let input = SkinInput {
+            positions: &mesh.positions,
+            normals: &mesh.normals,
+            weights: &w,
+            palette: &palette,
+        };
+        let bits = |v: &[Vec3]| -> Vec<u32> { v.iter().flat_map(|x| x.to_array().map(f32::to_bits)).collect() };
+        for method in [
+            SkinMethod::Linear,
+            SkinMethod::DualQuaternion,
+            SkinMethod::WeightBlended(&blend),
+        ] {
+            let mut scratch = DqPalette::new();
+            let (mut p1, mut n1) = (vec![Vec3::ZERO; 3000], vec![Vec3::ZERO; 3000]);
+            let (mut p2, mut n2) = (p1.clone(), n1.clone());
+            let out = SkinOutput {
+                positions: &mut p1,
+                normals: &mut n1,
+            };
+            let k = Kernel::prepare(&input, method, &mut scratch, &out).unwrap();
+            k.run(0, &mut p1, &mut n1);
+            k.run_generic(0, &mut p2, &mut n2);
+            assert!(bits(&p1) == bits(&p2), "{method:?}");
+            assert!(bits(&n1) == bits(&n2), "{method:?}");
+        }
+    }
 }

@@ -14,8 +14,8 @@
 
 use super::bvh::{Aabb, Bvh};
 use super::closest_point::interpolated_normal;
-use crate::data::Mesh;
 use glam::{Vec2, Vec3, Vec3A};
+use sinew_core::data::Mesh;
 
 /// Barycentric slack allowed when testing whether a UV lies in a UV triangle.
 const UV_EPS: f32 = 1e-6;

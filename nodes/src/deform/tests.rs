@@ -3,8 +3,8 @@
 use super::dual_quat::DqPalette;
 use super::primitives::cylinder;
 use super::skinning::{linear_blend, skin, skin_parallel, SkinError, SkinInput, SkinMethod, SkinOutput};
-use crate::data::{Mesh, Weights};
 use glam::{Mat4, Quat, Vec3};
+use sinew_core::data::{Mesh, Weights};
 use std::f32::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 
 /// Runs one method serially; returns (positions, normals).

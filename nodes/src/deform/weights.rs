@@ -9,7 +9,7 @@
 //! - entries keep their order within a row, except that pruning orders them by decreasing
 //!   weight (ties: lower joint index first).
 
-use crate::data::Weights;
+use sinew_core::data::Weights;
 
 /// Why weights do not fit a mesh or skeleton.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]

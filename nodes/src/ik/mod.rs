@@ -16,15 +16,16 @@
 //!
 //! - inputs: `startParentMatrix` (connect the start joint's `parentMatrix`),
 //!   `jointTranslate[i]`, `jointOrient[i]` (deg), `jointRotateAxis[i]` (deg),
-//!   `jointRotateOrder[i]` (Maya index 0..5), `preferredAngle[i]` (deg, the rest pose
-//!   every solve starts from), `fkRotate[i]` (deg) and `ikBlend` (0 = FK exactly,
-//!   1 = IK; quaternion slerp between).
+//!   `jointRotateOrder[i]` (enum xyz, yzx, zxy, xzy, yxz, zyx), `preferredAngle[i]`
+//!   (deg, the rest pose every solve starts from), `fkRotate[i]` (deg) and `ikBlend`
+//!   (0 = FK exactly, 1 = IK; quaternion slerp between).
 //! - outputs: `outRotate[i]` (deg, the joint's rotate order, the Euler solution closest
 //!   to `preferredAngle` blended towards `fkRotate`, so it is continuous), `outTranslate[i]`
 //!   (rest translate times the parent bone's stretch; the spline's root on the curve),
 //!   `outStretch[i]` (bone stretch factor), `endEffector` (world position of the last
-//!   joint in the output pose), `status` (0 reached, 1 unreachable, 2 not converged,
-//!   3 invalid), `statusMessage` and `error` (distance to the goal, -1 when invalid).
+//!   joint in the output pose), `status` (enum: 0 `reached`, 1 `unreachable`,
+//!   2 `notConverged`, 3 `invalid`), `statusMessage` and `error` (distance to the goal,
+//!   -1 when invalid).
 //! - `ikRP`/`ikSC`: `goalMatrix` (translation = goal; connect an IK control's
 //!   `worldMatrix`), `stretch`, `maxStretch` (0 = no cap), `soft`, `tolerance`,
 //!   `maxIterations`; `ikRP` adds `poleVector` (world vector from the start joint) and
@@ -117,7 +118,10 @@ pub mod soft;
 pub mod spline;
 pub mod two_bone;
 
-pub use node_chain::{status_code, STATUS_INVALID, STATUS_NOT_CONVERGED, STATUS_REACHED, STATUS_UNREACHABLE};
+pub use node_chain::{
+    status_code, ROTATE_ORDER_NAMES, STATUS_INVALID, STATUS_NAMES, STATUS_NOT_CONVERGED, STATUS_REACHED,
+    STATUS_UNREACHABLE,
+};
 
 #[cfg(test)]
 mod tests;

@@ -22,6 +22,12 @@ pub const STATUS_NOT_CONVERGED: i64 = 2;
 /// curve); the outputs are the rest pose.
 pub const STATUS_INVALID: i64 = 3;
 
+/// Names of the `status` enum output's choices, by code.
+pub const STATUS_NAMES: [&str; 4] = ["reached", "unreachable", "notConverged", "invalid"];
+
+/// Names of the `jointRotateOrder[i]` choices (Maya's rotate order indices).
+pub const ROTATE_ORDER_NAMES: [&str; 6] = ["xyz", "yzx", "zxy", "xzy", "yxz", "zyx"];
+
 /// Numeric code of a solver status for the `status` output.
 pub fn status_code(status: &IkStatus) -> i64 {
     match status {
@@ -165,10 +171,10 @@ impl ChainInputs {
         let joint_rotate_axis = b.multi_input("jointRotateAxis", DVec3::ZERO);
         b.attr_doc(joint_rotate_axis, "per joint its rotateAxis (degrees, xyz)");
         b.unit(joint_rotate_axis, Unit::Degrees);
-        let joint_rotate_order = b.multi_input("jointRotateOrder", 0i64);
+        let joint_rotate_order = b.multi_input_enum("jointRotateOrder", &ROTATE_ORDER_NAMES, 0);
         b.attr_doc(
             joint_rotate_order,
-            "per joint its rotateOrder as Maya's index (0 xyz, 1 yzx, 2 zxy, 3 xzy, 4 yxz, 5 zyx)",
+            "per joint its rotateOrder (xyz, yzx, zxy, xzy, yxz, zyx: Maya's order; connect joint.rotateOrder)",
         );
         let preferred_angle = b.multi_input("preferredAngle", DVec3::ZERO);
         b.attr_doc(
@@ -384,10 +390,10 @@ impl ChainOutputs {
         );
         let end_effector = b.output("endEffector", DVec3::ZERO);
         b.attr_doc(end_effector, "world position of the last joint in the output pose");
-        let status = b.output("status", 0i64);
+        let status = b.output_enum("status", &STATUS_NAMES, STATUS_REACHED);
         b.attr_doc(
             status,
-            "0 reached, 1 unreachable (held short), 2 not converged, 3 invalid input (rest pose)",
+            "reached (0), unreachable (1, held short), notConverged (2), invalid (3, input unusable: rest pose)",
         );
         let status_message = b.output("statusMessage", Arc::<str>::from(""));
         b.attr_doc(status_message, "the status in words, naming the bad input when invalid");

@@ -379,3 +379,36 @@ fn lazy_equals_compiled_ik_rp_and_ik_sc() {
 fn status_invalid_constant_is_three() {
     assert_eq!(STATUS_INVALID, 3);
 }
+
+#[test]
+fn status_and_joint_rotate_order_are_named_enums() {
+    let reg = crate::registry().unwrap();
+    for ty in ["ikRP", "ikSC", "ikSpline"] {
+        let spec = reg.spec(ty).unwrap();
+        let status = spec.attr(spec.find("status").unwrap().0);
+        assert_eq!(status.ty, sinew_core::AttrType::Enum, "{ty}.status");
+        assert_eq!(status.enum_names, ["reached", "unreachable", "notConverged", "invalid"]);
+        assert_eq!(status.enum_index("invalid"), Some(STATUS_INVALID));
+        assert_eq!(status.enum_index("unreachable"), Some(STATUS_UNREACHABLE));
+        let order = spec.attr(spec.find("jointRotateOrder").unwrap().0);
+        assert!(
+            order.multi && order.ty == sinew_core::AttrType::Enum,
+            "{ty}.jointRotateOrder"
+        );
+        assert_eq!(order.enum_names, ["xyz", "yzx", "zxy", "xzy", "yxz", "zyx"]);
+    }
+    // An enum value (not only an int) is accepted on jointRotateOrder: with all joints zyx
+    // the two 1-unit bones reach a goal at distance √2 < 2.
+    let mut g = graph();
+    add_chain(
+        &mut g,
+        "ikSC",
+        "ik",
+        &[v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(1.0, 0.0, 0.0)],
+    );
+    for i in 0..3 {
+        set(&mut g, &format!("ik.jointRotateOrder[{i}]"), TestValue(Value::Enum(5)));
+    }
+    set(&mut g, "ik.goalMatrix", DMat4::from_translation(v(1.0, 1.0, 0.0)));
+    assert_eq!(get_i(&mut g, "ik.status"), STATUS_REACHED);
+}

@@ -18,9 +18,10 @@ use crate::transform::math::{euler_to_quat, quat_to_euler_closest, slerp_shortes
 ///
 /// `weight` is clamped to [0, 1] (Maya's attribute range). Differences from
 /// Maya: the per-axis `translateXMode`... and `rotateMode` switches are not
-/// modelled (always "blend inputs"), and vec3 children are named
-/// `inTranslate1X` rather than Maya's `inTranslateX1` (the spec builder only
-/// appends suffixes).
+/// modelled (always "blend inputs"). The vec3 children have Maya's names,
+/// with the pair number last: `inTranslateX1`..`inTranslateZ1`,
+/// `inTranslateX2`.., `inRotateX1`.., `inRotateX2`.. (Maya's pairBlend node
+/// reference lists exactly these); the outputs have `outTranslateX`...
 pub struct PairBlend {
     spec: NodeSpec,
     in_translate1: Input<DVec3>,
@@ -48,6 +49,10 @@ impl PairBlend {
         let rotate_order = s.input_enum("rotateOrder", &["xyz", "yzx", "zxy", "xzy", "yxz", "zyx"], 0);
         let out_translate = s.output("outTranslate", DVec3::ZERO);
         let out_rotate = s.output("outRotate", DVec3::ZERO);
+        s.child_names(in_translate1, ["inTranslateX1", "inTranslateY1", "inTranslateZ1"]);
+        s.child_names(in_translate2, ["inTranslateX2", "inTranslateY2", "inTranslateZ2"]);
+        s.child_names(in_rotate1, ["inRotateX1", "inRotateY1", "inRotateZ1"]);
+        s.child_names(in_rotate2, ["inRotateX2", "inRotateY2", "inRotateZ2"]);
         for h in [in_rotate1, in_rotate2] {
             s.unit(h, Unit::Degrees);
         }

@@ -4,6 +4,9 @@ use sinew_core::{ComputeContext, ComputeError, Input, MultiInput, NodeSpec, Node
 
 use super::{finite, node_type};
 
+/// Names of the `value_Interp[i]` choices, by index (Maya's order).
+pub const INTERP_NAMES: [&str; 4] = ["none", "linear", "smooth", "spline"];
+
 /// Interpolation of a ramp entry toward the next one (Maya's `value_Interp`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum RampInterp {
@@ -85,8 +88,8 @@ pub fn eval_ramp(points: &[RampPoint], t: f64) -> f64 {
 /// `outValue = outputMin + ramp(t) * (outputMax - outputMin)`.
 ///
 /// The ramp is given as parallel multis `value_Position[i]`,
-/// `value_FloatValue[i]`, `value_Interp[i]` (enum index: 0 none, 1 linear,
-/// 2 smooth, 3 spline; an int multi because multi enums are not available):
+/// `value_FloatValue[i]`, `value_Interp[i]` (multi enum with the names in
+/// [`INTERP_NAMES`]: 0 none, 1 linear, 2 smooth, 3 spline; ints also work):
 /// an entry exists for every index present in `value_Position` or
 /// `value_FloatValue` (a missing partner reads 0, a missing interp linear).
 /// See [`eval_ramp`] for the ramp rules; an **empty ramp is Maya's default
@@ -118,11 +121,11 @@ impl RemapValue {
         let output_max = s.input("outputMax", 1.0);
         let position = s.multi_input("value_Position", 0.0);
         let float_value = s.multi_input("value_FloatValue", 0.0);
-        let interp = s.multi_input("value_Interp", 1i64);
+        let interp = s.multi_input_enum("value_Interp", &INTERP_NAMES, 1);
         let out = s.output("outValue", 0.0);
         s.attr_doc(position, "ramp entry position (0..1 along the ramp)");
         s.attr_doc(float_value, "ramp entry value");
-        s.attr_doc(interp, "ramp entry interpolation: 0 none, 1 linear, 2 smooth, 3 spline");
+        s.attr_doc(interp, "ramp entry interpolation: none, linear, smooth, spline");
         Ok(RemapValue {
             spec: s.build()?,
             input_value,

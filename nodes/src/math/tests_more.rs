@@ -12,7 +12,7 @@ use crate::transform::math::{euler_to_quat, RotateOrder};
 fn ramp_point(g: &mut sinew_core::Graph, i: u32, pos: f64, value: f64, interp: i64) {
     set(g, &format!("r.value_Position[{i}]"), Value::Float(pos));
     set(g, &format!("r.value_FloatValue[{i}]"), Value::Float(value));
-    set(g, &format!("r.value_Interp[{i}]"), Value::Int(interp));
+    set(g, &format!("r.value_Interp[{i}]"), Value::Enum(interp));
 }
 
 #[test]
@@ -56,7 +56,8 @@ fn remap_value_linear_smooth_none_ramp() {
     // Past the last entry: its value; before the first: the first's.
     assert_eq!(eval(&mut g, 1.5), 0.2);
     assert_eq!(eval(&mut g, -1.0), 0.0);
-    // Interp none on the middle entry holds 1 until the next entry.
+    // Interp none on the middle entry holds 1 until the next entry (a plain int works on the
+    // enum plug too).
     set(&mut g, "r.value_Interp[4]", Value::Int(0));
     assert_eq!(eval(&mut g, 0.99), 1.0);
 }
@@ -201,4 +202,52 @@ fn pair_blend_quaternion_slerp() {
         DVec3::new(90.0, 0.0, 0.0),
         1e-12,
     );
+}
+
+#[test]
+fn remap_value_interp_is_a_named_multi_enum() {
+    let reg = crate::registry().unwrap();
+    let spec = reg.spec("remapValue").unwrap();
+    let a = spec.attr(spec.find("value_Interp").unwrap().0);
+    assert!(a.multi && a.ty == sinew_core::AttrType::Enum);
+    assert_eq!(a.enum_names, ["none", "linear", "smooth", "spline"]);
+    assert_eq!(a.enum_index("Smooth"), Some(2));
+    assert!(matches!(a.default, Value::Enum(1)));
+}
+
+#[test]
+fn pair_blend_children_have_maya_names() {
+    let mut g = graph();
+    g.add_node("pairBlend", "p").unwrap();
+    // Maya's children put the pair number last: inTranslateX1, inRotateZ2...
+    set(&mut g, "p.inTranslateX1", Value::Float(2.0));
+    set(&mut g, "p.inTranslateY2", Value::Float(8.0));
+    set(&mut g, "p.inRotateZ1", Value::Float(10.0));
+    set(&mut g, "p.inRotateX2", Value::Float(40.0));
+    set(&mut g, "p.weight", Value::Float(0.5));
+    // weight 1/2: translate ((2 + 0)/2, (0 + 8)/2, 0) = (1, 4, 0); euler lerp (20, 0, 5).
+    let out = both(
+        &mut g,
+        &["p.outTranslate", "p.outRotate", "p.outTranslateY", "p.outRotateX"],
+    );
+    assert_eq!(vec(&out[0]), DVec3::new(1.0, 4.0, 0.0));
+    assert_eq!(vec(&out[1]), DVec3::new(20.0, 0.0, 5.0));
+    assert_eq!(float(&out[2]), 4.0);
+    assert_eq!(float(&out[3]), 20.0);
+    // The suffix-rule names do not exist.
+    for bad in ["p.inTranslate1X", "p.inRotate2Z"] {
+        assert!(g.set_path(bad, Value::Float(1.0)).is_err(), "{bad}");
+    }
+    let spec = g.registry().spec("pairBlend").unwrap().clone();
+    for (attr, suffix) in [
+        ("inTranslate", "1"),
+        ("inTranslate", "2"),
+        ("inRotate", "1"),
+        ("inRotate", "2"),
+    ] {
+        let (id, _) = spec.find(&format!("{attr}{suffix}")).unwrap();
+        for (k, axis) in ["X", "Y", "Z"].iter().enumerate() {
+            assert_eq!(spec.find(&format!("{attr}{axis}{suffix}")), Some((id, Some(k as u8))));
+        }
+    }
 }

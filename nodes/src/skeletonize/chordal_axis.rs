@@ -143,9 +143,7 @@ fn raw_axis(part: &Part) -> Axis2 {
             edges.push([base + k, base + (k + 1) % ring.len()]);
         }
     }
-    let Ok(cdt) =
-        ConstrainedDelaunayTriangulation::<Point2<f64>>::try_bulk_load_cdt(verts, edges, |_| {})
-    else {
+    let Ok(cdt) = ConstrainedDelaunayTriangulation::<Point2<f64>>::try_bulk_load_cdt(verts, edges, |_| {}) else {
         return Axis2::default();
     };
     let pos = |p: Point2<f64>| DVec2::new(p.x, p.y);
@@ -182,8 +180,7 @@ fn raw_axis(part: &Part) -> Axis2 {
             let key = e.fix().as_undirected().index();
             let (a, b) = (pos(e.from().position()), pos(e.to().position()));
             if mid_of_edge[key] == NONE {
-                mid_of_edge[key] =
-                    add_point(&mut axis, &mut adj, (a + b) * 0.5, 0.5 * a.distance(b));
+                mid_of_edge[key] = add_point(&mut axis, &mut adj, (a + b) * 0.5, 0.5 * a.distance(b));
             }
             inner_mids.push(mid_of_edge[key]);
             inner_edge = Some(e);
@@ -192,12 +189,7 @@ fn raw_axis(part: &Part) -> Axis2 {
         let centroid = (a + b + c) / 3.0;
         match inner_mids.len() {
             0 => {
-                add_point(
-                    &mut axis,
-                    &mut adj,
-                    centroid,
-                    part.distance_to_outline(centroid),
-                );
+                add_point(&mut axis, &mut adj, centroid, part.distance_to_outline(centroid));
             }
             1 => {
                 let tip = inner_edge
@@ -212,10 +204,7 @@ fn raw_axis(part: &Part) -> Axis2 {
                 // Local width: the inscribed radius or the widest adjacent chord,
                 // whichever is larger (a sliver junction near the outline has a tiny
                 // inscribed radius but sits in a wide region).
-                let chord = inner_mids
-                    .iter()
-                    .map(|&m| axis.radius[m as usize])
-                    .fold(0.0, f64::max);
+                let chord = inner_mids.iter().map(|&m| axis.radius[m as usize]).fold(0.0, f64::max);
                 let r = part.distance_to_outline(centroid).max(chord);
                 let j = add_point(&mut axis, &mut adj, centroid, r);
                 for &m in &inner_mids {
@@ -300,7 +289,7 @@ fn prune(axis: &mut Axis2, alive: &mut [bool], factor: f64) -> bool {
                 _ => continue,
             };
             let len = axis.branch_length(b);
-            if len < factor * axis.radius[junction] && best.map_or(true, |(_, l)| len < l) {
+            if len < factor * axis.radius[junction] && best.is_none_or(|(_, l)| len < l) {
                 best = Some((b, len));
             }
         }
@@ -366,7 +355,7 @@ fn merge_junctions(axis: &mut Axis2, alive: &mut [bool], factor: f64) -> bool {
             }
             let len = axis.branch_length(b);
             let r = axis.radius[s].max(axis.radius[e]);
-            if len < factor * r && best.map_or(true, |(_, l)| len < l) {
+            if len < factor * r && best.is_none_or(|(_, l)| len < l) {
                 best = Some((b, len));
             }
         }

@@ -18,7 +18,7 @@ use super::depth::{lift, Axis3};
 use super::joints::{build, JointParams};
 use super::outline::{parts, Part};
 use super::raster::{Frame, Raster};
-use crate::data::Mesh;
+use sinew_core::data::Mesh;
 
 /// A joint hierarchy in parent-first order with world-space placement.
 ///
@@ -78,7 +78,7 @@ impl Skeleton {
 /// Parameters of [`skeletonize`]. `Default` gives values that suit typical characters.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SkeletonizeParams {
-    /// Silhouette raster size in pixels along its longer side (default 256).
+    /// Silhouette raster size in pixels along its longer side (default 256, clamped to 8..=4096).
     pub resolution: usize,
     /// Gaps up to `2 × close_radius` pixels wide are closed (default 1).
     pub close_radius: usize,
@@ -186,10 +186,7 @@ pub fn skeletonize(mesh: &Mesh, params: &SkeletonizeParams) -> Result<Skeleton, 
 }
 
 /// Like [`skeletonize`], also returning the intermediate frame, outline and axis.
-pub fn skeletonize_detailed(
-    mesh: &Mesh,
-    params: &SkeletonizeParams,
-) -> Result<SkeletonDetails, SkeletonizeError> {
+pub fn skeletonize_detailed(mesh: &Mesh, params: &SkeletonizeParams) -> Result<SkeletonDetails, SkeletonizeError> {
     if mesh.positions.is_empty() || mesh.triangles.is_empty() {
         return Err(SkeletonizeError::EmptyMesh {
             vertices: mesh.positions.len(),
@@ -197,8 +194,7 @@ pub fn skeletonize_detailed(
         });
     }
     mesh.validate().map_err(SkeletonizeError::InvalidMesh)?;
-    let frame = Frame::principal(mesh, params.view_axis)
-        .ok_or(SkeletonizeError::Degenerate { extent: 0.0 })?;
+    let frame = Frame::principal(mesh, params.view_axis).ok_or(SkeletonizeError::Degenerate { extent: 0.0 })?;
     let (lo, hi) = mesh.positions.iter().fold(
         (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
         |(lo, hi), p| {
@@ -207,7 +203,8 @@ pub fn skeletonize_detailed(
         },
     );
     let ext = hi - lo;
-    if !(ext.min_element() > 1e-9 * ext.max_element().max(1e-300)) || ext.max_element() <= 0.0 {
+    let has_area = ext.min_element() > 1e-9 * ext.max_element().max(1e-300);
+    if !has_area || ext.max_element() <= 0.0 {
         return Err(SkeletonizeError::Degenerate {
             extent: ext.max_element().max(0.0),
         });

@@ -27,7 +27,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use super::extract::{Skeleton, SkeletonizeError};
-use crate::data::{Mesh, Weights};
+use sinew_core::data::{Mesh, Weights};
 
 /// The mesh Laplacian used for heat diffusion.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -84,11 +84,7 @@ struct Bone {
 /// Bone-heat skin weights of `mesh` for `skeleton`: per vertex at most
 /// `max_influences` joints, weights summing to 1. The bone from a joint's parent to
 /// the joint is driven by the parent, so its weight goes to the parent joint.
-pub fn bone_heat_weights(
-    mesh: &Mesh,
-    skeleton: &Skeleton,
-    params: &WeightParams,
-) -> Result<Weights, SkeletonizeError> {
+pub fn bone_heat_weights(mesh: &Mesh, skeleton: &Skeleton, params: &WeightParams) -> Result<Weights, SkeletonizeError> {
     bone_heat_weights_with_report(mesh, skeleton, params).map(|(w, _)| w)
 }
 
@@ -127,11 +123,9 @@ pub fn bone_heat_weights_with_report(
     }
     let max_inf = params.max_influences.max(1);
     let pos: Vec<DVec3> = mesh.positions.iter().map(|p| p.as_dvec3()).collect();
-    let (lo, hi) = pos
-        .iter()
-        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(l, h), p| {
-            (l.min(*p), h.max(*p))
-        });
+    let (lo, hi) = pos.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(l, h), p| {
+        (l.min(*p), h.max(*p))
+    });
     let extent = (hi - lo).length().max(1e-12);
     // Weld coincident vertices.
     let cell = extent * 1e-7;
@@ -162,14 +156,11 @@ pub fn bone_heat_weights_with_report(
             .length_squared()
             .max((pc - pb).length_squared())
             .max((pa - pc).length_squared());
-        if !(cr > 1e-10 * longest) {
+        let proper = cr > 1e-10 * longest;
+        if !proper {
             continue;
         }
-        for (i, j, k, pi, pj, pk) in [
-            (a, b, c, pa, pb, pc),
-            (b, c, a, pb, pc, pa),
-            (c, a, b, pc, pa, pb),
-        ] {
+        for (i, j, k, pi, pj, pk) in [(a, b, c, pa, pb, pc), (b, c, a, pb, pc, pa), (c, a, b, pc, pa, pb)] {
             // Weight of edge (j, k) from the angle at i.
             let w = match params.laplacian {
                 Laplacian::Cotangent => (0.5 * (pj - pi).dot(pk - pi) / cr).clamp(0.0, 1e8),
@@ -188,8 +179,7 @@ pub fn bone_heat_weights_with_report(
         .map(|b| b.a.distance(b.b))
         .fold(0.0, f64::max)
         .max(extent * 1e-3);
-    let nearest: Vec<(f64, Vec<u32>)> =
-        wpos.par_iter().map(|p| nearest_bones(*p, &bones)).collect();
+    let nearest: Vec<(f64, Vec<u32>)> = wpos.par_iter().map(|p| nearest_bones(*p, &bones)).collect();
     let mut sys = vec![u32::MAX; m];
     let mut count = 0usize;
     for v in 0..m {
@@ -257,10 +247,7 @@ pub fn bone_heat_weights_with_report(
                 .1
                 .first()
                 .map_or(bones[0].joint, |&b| bones[b as usize].joint);
-            (
-                finish(acc, max_inf, params.min_weight, nearest_joint),
-                fell_back,
-            )
+            (finish(acc, max_inf, params.min_weight, nearest_joint), fell_back)
         })
         .collect();
     let fallback_vertices = lists.iter().filter(|l| l.1).count();
@@ -277,10 +264,7 @@ pub fn bone_heat_weights_with_report(
 
 /// Distance to the nearest bone and the bones within a hair of it.
 fn nearest_bones(p: DVec3, bones: &[Bone]) -> (f64, Vec<u32>) {
-    let d: Vec<f64> = bones
-        .iter()
-        .map(|b| segment_distance(p, b.a, b.b))
-        .collect();
+    let d: Vec<f64> = bones.iter().map(|b| segment_distance(p, b.a, b.b)).collect();
     let dmin = d.iter().copied().fold(f64::INFINITY, f64::min);
     let tol = dmin * 1e-3 + 1e-12;
     let ids = (0..bones.len() as u32)
@@ -338,12 +322,7 @@ fn solve(
 
 /// Keeps the `max_inf` largest influences above `min_weight` and normalises; a vertex
 /// left with nothing goes fully to `nearest_joint`.
-fn finish(
-    mut acc: Vec<(u32, f64)>,
-    max_inf: usize,
-    min_weight: f32,
-    nearest_joint: u32,
-) -> Vec<(u32, f32)> {
+fn finish(mut acc: Vec<(u32, f64)>, max_inf: usize, min_weight: f32, nearest_joint: u32) -> Vec<(u32, f32)> {
     acc.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
     acc.truncate(max_inf);
     let total: f64 = acc.iter().map(|e| e.1).sum();
@@ -351,7 +330,8 @@ fn finish(
         acc.retain(|e| e.1 / total >= min_weight as f64);
     }
     let total: f64 = acc.iter().map(|e| e.1).sum();
-    if !(total > 0.0) || !total.is_finite() {
+    let positive = total > 0.0;
+    if !positive || !total.is_finite() {
         return vec![(nearest_joint, 1.0)];
     }
     let mut out: Vec<(u32, f32)> = acc.iter().map(|e| (e.0, (e.1 / total) as f32)).collect();

@@ -79,11 +79,7 @@ pub fn build(axis: &Axis3, frame: &Frame, params: &JointParams, keep_all: bool) 
     let mut sk = Skeleton::default();
     let mut labels = 0usize;
     for (c, (bs, _)) in comps.iter().enumerate() {
-        let hint = if hinted == Some(c) {
-            params.root_hint
-        } else {
-            None
-        };
+        let hint = if hinted == Some(c) { params.root_hint } else { None };
         let (root, bs) = choose_root(&mut axis, bs, frame, hint);
         let tree = grow_tree(&axis, &bs, root);
         emit(&mut sk, &tree, params, &mut labels);
@@ -121,12 +117,7 @@ fn components(axis: &Axis3) -> Vec<Vec<usize>> {
 
 /// Picks the root point of a component; splits a branch when the hint lands inside it.
 /// Returns the root point and the component's (possibly extended) branch list.
-fn choose_root(
-    axis: &mut Axis3,
-    bs: &[usize],
-    frame: &Frame,
-    hint: Option<DVec3>,
-) -> (u32, Vec<usize>) {
+fn choose_root(axis: &mut Axis3, bs: &[usize], frame: &Frame, hint: Option<DVec3>) -> (u32, Vec<usize>) {
     let mut bs = bs.to_vec();
     if let Some(h) = hint {
         let mut best = (f64::INFINITY, 0usize, 0usize);
@@ -159,13 +150,10 @@ fn choose_root(
     keys.sort_unstable();
     let p = |i: u32| axis.points[i as usize];
     let root = if maxd >= 3 {
-        keys.iter()
-            .copied()
-            .filter(|k| deg[k] == maxd)
-            .min_by(|&a, &b| {
-                p(a).distance_squared(frame.origin)
-                    .total_cmp(&p(b).distance_squared(frame.origin))
-            })
+        keys.iter().copied().filter(|k| deg[k] == maxd).min_by(|&a, &b| {
+            p(a).distance_squared(frame.origin)
+                .total_cmp(&p(b).distance_squared(frame.origin))
+        })
     } else {
         // A chain (or loop): the end lowest in world Y, then X, then Z.
         keys.iter().copied().min_by(|&a, &b| {
@@ -234,9 +222,7 @@ fn grow_tree(axis: &Axis3, bs: &[usize], root: u32) -> Tree {
                     for (half, from) in [(&br[..m], via), (&back[..], end_owner)] {
                         let len: f64 = half
                             .windows(2)
-                            .map(|w| {
-                                axis.points[w[0] as usize].distance(axis.points[w[1] as usize])
-                            })
+                            .map(|w| axis.points[w[0] as usize].distance(axis.points[w[1] as usize]))
                             .sum();
                         if len >= 2.0 * axis.radius[half[0] as usize] {
                             push(&mut tree, half, from, false);
@@ -293,7 +279,7 @@ fn joint_points(pts: &[DVec3], mean_radius: f64, params: &JointParams) -> Vec<DV
                 (sel[k + 1] - sel[k]).normalize_or_zero(),
             );
             let turn = a.dot(b).clamp(-1.0, 1.0).acos();
-            if turn < params.angle_limit && weakest.map_or(true, |(_, t)| turn < t) {
+            if turn < params.angle_limit && weakest.is_none_or(|(_, t)| turn < t) {
                 weakest = Some((k, turn));
             }
         }
@@ -395,8 +381,8 @@ fn orient(sk: &mut Skeleton, frame: &Frame) {
         }
     }
     sk.orientations = vec![DQuat::IDENTITY; n];
-    for j in 0..n {
-        let main = children[j].iter().copied().max_by(|&a, &b| {
+    for (j, kids) in children.iter().enumerate() {
+        let main = kids.iter().copied().max_by(|&a, &b| {
             let la = sub[a] + sk.positions[a].distance(sk.positions[j]);
             let lb = sub[b] + sk.positions[b].distance(sk.positions[j]);
             la.total_cmp(&lb).then(b.cmp(&a))

@@ -76,10 +76,7 @@ fn ring_crossings(ring: &[DVec2], p: DVec2) -> bool {
 /// Signed area (positive when counter-clockwise).
 pub fn signed_area(ring: &[DVec2]) -> f64 {
     let n = ring.len();
-    (0..n)
-        .map(|k| ring[k].perp_dot(ring[(k + 1) % n]))
-        .sum::<f64>()
-        * 0.5
+    (0..n).map(|k| ring[k].perp_dot(ring[(k + 1) % n])).sum::<f64>() * 0.5
 }
 
 /// Traces the mask of `raster` into closed loops in plane coordinates.
@@ -103,10 +100,7 @@ pub fn trace(raster: &Raster) -> Vec<Vec<DVec2>> {
             // Corners counter-clockwise (y up) and the edges between consecutive ones.
             let c = [at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)];
             let e = [hid(i, j), vid(i + 1, j), hid(i, j + 1), vid(i, j)];
-            let case = c
-                .iter()
-                .enumerate()
-                .fold(0, |m, (k, &b)| m | ((b as u8) << k));
+            let case = c.iter().enumerate().fold(0, |m, (k, &b)| m | ((b as u8) << k));
             if case == 0 || case == 15 {
                 continue;
             }
@@ -141,11 +135,7 @@ pub fn trace(raster: &Raster) -> Vec<Vec<DVec2>> {
         }
     }
     let point = |id: usize| -> DVec2 {
-        let (g, horizontal) = if id < w * h {
-            (id, true)
-        } else {
-            (id - w * h, false)
-        };
+        let (g, horizontal) = if id < w * h { (id, true) } else { (id - w * h, false) };
         let (i, j) = ((g % w) as f64, (g / w) as f64);
         let (x, y) = if horizontal {
             (i + 1.0, j + 0.5)
@@ -223,8 +213,7 @@ pub fn simplify_ring(ring: &[DVec2], tol: f64) -> Vec<DVec2> {
         let third = (1..n)
             .filter(|&k| k != far)
             .max_by(|&a, &b| {
-                segment_distance(ring[a], ring[0], ring[far])
-                    .total_cmp(&segment_distance(ring[b], ring[0], ring[far]))
+                segment_distance(ring[a], ring[0], ring[far]).total_cmp(&segment_distance(ring[b], ring[0], ring[far]))
             })
             .unwrap_or(1);
         let mut idx = [0, far, third];

@@ -8,7 +8,7 @@
 
 use glam::{DMat3, DVec2, DVec3};
 
-use crate::data::Mesh;
+use sinew_core::data::Mesh;
 
 /// An orthonormal, right-handed projection frame: `u` and `v` span the silhouette
 /// plane (largest and second-largest principal axes), `w` is the view axis.
@@ -35,9 +35,7 @@ impl Frame {
                 // restricted to the plane by projecting the principal axes.
                 let p = DMat3::IDENTITY - outer(w, w);
                 let (vals, vecs) = sym_eigen(p * cov * p);
-                let i = (0..3)
-                    .max_by(|&a, &b| vals[a].total_cmp(&vals[b]))
-                    .unwrap_or(0);
+                let i = (0..3).max_by(|&a, &b| vals[a].total_cmp(&vals[b])).unwrap_or(0);
                 let u = (vecs.col(i) - w * vecs.col(i).dot(w))
                     .try_normalize()
                     .unwrap_or_else(|| w.any_orthonormal_vector());
@@ -137,16 +135,14 @@ pub(crate) fn sym_eigen(m: DMat3) -> ([f64; 3], DMat3) {
             let t = if theta == 0.0 { 1.0 } else { t };
             let c = 1.0 / (t * t + 1.0).sqrt();
             let s = t * c;
-            for k in 0..3 {
-                let (akp, akq) = (a[k][p], a[k][q]);
-                a[k][p] = c * akp - s * akq;
-                a[k][q] = s * akp + c * akq;
+            for row in a.iter_mut() {
+                let (akp, akq) = (row[p], row[q]);
+                row[p] = c * akp - s * akq;
+                row[q] = s * akp + c * akq;
             }
-            for k in 0..3 {
-                let (apk, aqk) = (a[p][k], a[q][k]);
-                a[p][k] = c * apk - s * aqk;
-                a[q][k] = s * apk + c * aqk;
-            }
+            let (rp, rq) = (a[p], a[q]);
+            a[p] = std::array::from_fn(|k| c * rp[k] - s * rq[k]);
+            a[q] = std::array::from_fn(|k| s * rp[k] + c * rq[k]);
             for row in v.iter_mut() {
                 let (vp, vq) = (row[p], row[q]);
                 row[p] = c * vp - s * vq;
@@ -191,12 +187,7 @@ impl Raster {
     /// and closes gaps up to `2 * close_radius` pixels wide.
     ///
     /// Returns `None` when the projected extent is zero or not finite.
-    pub fn draw(
-        mesh: &Mesh,
-        frame: &Frame,
-        resolution: usize,
-        close_radius: usize,
-    ) -> Option<Self> {
+    pub fn draw(mesh: &Mesh, frame: &Frame, resolution: usize, close_radius: usize) -> Option<Self> {
         let pts: Vec<(DVec2, f64)> = mesh
             .positions
             .iter()
@@ -219,7 +210,7 @@ impl Raster {
         if !ext.is_finite() || ext.max_element() <= 0.0 {
             return None;
         }
-        let res = resolution.clamp(8, 8192) as f64;
+        let res = resolution.clamp(8, 4096) as f64;
         let pixel = ext.max_element() / res;
         let pad = (BORDER + close_radius) as f64;
         let width = (ext.x / pixel).ceil() as usize + 2 * (BORDER + close_radius);
@@ -238,11 +229,8 @@ impl Raster {
         // Pixel-space coordinates: pixel (i, j) has its centre at (i + 0.5, j + 0.5).
         let px: Vec<(DVec2, f64)> = pts.iter().map(|(q, d)| ((*q - min) / pixel, *d)).collect();
         for t in &mesh.triangles {
-            let (Some(a), Some(b), Some(c)) = (
-                px.get(t[0] as usize),
-                px.get(t[1] as usize),
-                px.get(t[2] as usize),
-            ) else {
+            let (Some(a), Some(b), Some(c)) = (px.get(t[0] as usize), px.get(t[1] as usize), px.get(t[2] as usize))
+            else {
                 continue;
             };
             if !r.fill_triangle(*a, *b, *c) {

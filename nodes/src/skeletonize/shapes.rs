@@ -5,7 +5,7 @@ use std::f32::consts::{FRAC_PI_2, TAU};
 
 use glam::Vec3;
 
-use crate::data::Mesh;
+use sinew_core::data::Mesh;
 
 /// A closed capsule (cylinder with hemispherical caps) from `a` to `b`.
 ///
@@ -19,11 +19,7 @@ pub fn capsule(a: Vec3, b: Vec3, radius: f32, around: usize) -> Mesh {
     let e2 = d.cross(e1);
     let cap = (around / 4).max(1);
     let step = TAU * radius / around as f32;
-    let body = if step > 0.0 {
-        (len / step).round() as usize
-    } else {
-        0
-    };
+    let body = if step > 0.0 { (len / step).round() as usize } else { 0 };
     // Rings as (centre, radius), pole to pole, excluding the poles.
     let mut rings: Vec<(Vec3, f32)> = Vec::new();
     for k in 1..=cap {
@@ -53,12 +49,7 @@ pub fn capsule(a: Vec3, b: Vec3, radius: f32, around: usize) -> Mesh {
     }
     for k in 0..rings.len() - 1 {
         for s in 0..around {
-            let (p, q, r, t) = (
-                ring(k, s),
-                ring(k, s + 1),
-                ring(k + 1, s + 1),
-                ring(k + 1, s),
-            );
+            let (p, q, r, t) = (ring(k, s), ring(k, s + 1), ring(k + 1, s + 1), ring(k + 1, s));
             m.triangles.push([p, q, r]);
             m.triangles.push([p, r, t]);
         }
@@ -99,8 +90,7 @@ pub fn merge(parts: &[Mesh]) -> Mesh {
     for p in parts {
         let base = m.positions.len() as u32;
         m.positions.extend_from_slice(&p.positions);
-        m.triangles
-            .extend(p.triangles.iter().map(|t| t.map(|i| i + base)));
+        m.triangles.extend(p.triangles.iter().map(|t| t.map(|i| i + base)));
     }
     m
 }
@@ -108,18 +98,8 @@ pub fn merge(parts: &[Mesh]) -> Mesh {
 /// Two capsules crossed at the origin in the XY plane, arms reaching `arm` out.
 pub fn plus(arm: f32, radius: f32, around: usize) -> Mesh {
     merge(&[
-        capsule(
-            Vec3::new(-arm, 0.0, 0.0),
-            Vec3::new(arm, 0.0, 0.0),
-            radius,
-            around,
-        ),
-        capsule(
-            Vec3::new(0.0, -arm, 0.0),
-            Vec3::new(0.0, arm, 0.0),
-            radius,
-            around,
-        ),
+        capsule(Vec3::new(-arm, 0.0, 0.0), Vec3::new(arm, 0.0, 0.0), radius, around),
+        capsule(Vec3::new(0.0, -arm, 0.0), Vec3::new(0.0, arm, 0.0), radius, around),
     ])
 }
 

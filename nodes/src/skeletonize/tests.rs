@@ -5,11 +5,9 @@ use glam::{DVec3, Vec3};
 use proptest::prelude::*;
 
 use super::extract::{skeletonize, Skeleton, SkeletonizeError, SkeletonizeParams};
-use super::heat_weights::{
-    bone_heat_weights, bone_heat_weights_with_report, Laplacian, WeightParams,
-};
+use super::heat_weights::{bone_heat_weights, bone_heat_weights_with_report, Laplacian, WeightParams};
 use super::shapes;
-use crate::data::{Mesh, Weights};
+use sinew_core::data::{Mesh, Weights};
 
 fn degree(sk: &Skeleton, j: usize) -> usize {
     sk.children(j).count() + usize::from(sk.parents[j].is_some())
@@ -34,10 +32,7 @@ fn ancestors(sk: &Skeleton, mut j: usize) -> Vec<usize> {
 
 fn common_ancestor(sk: &Skeleton, a: usize, b: usize) -> usize {
     let pa = ancestors(sk, a);
-    ancestors(sk, b)
-        .into_iter()
-        .find(|j| pa.contains(j))
-        .unwrap_or(0)
+    ancestors(sk, b).into_iter().find(|j| pa.contains(j)).unwrap_or(0)
 }
 
 fn seg_dist(p: DVec3, a: DVec3, b: DVec3) -> f64 {
@@ -73,14 +68,10 @@ fn capsule_case(a: Vec3, b: Vec3, r: f32) {
     let (ta, tb) = (a.as_dvec3() - dir * r as f64, b.as_dvec3() + dir * r as f64);
     let len = ta.distance(tb);
     for p in &sk.positions {
-        assert!(
-            seg_dist(*p, ta, tb) < 0.05 * len,
-            "joint {p} is off the axis"
-        );
+        assert!(seg_dist(*p, ta, tb) < 0.05 * len, "joint {p} is off the axis");
     }
     let along: Vec<f64> = sk.positions.iter().map(|p| (*p - ta).dot(dir)).collect();
-    let span = along.iter().copied().fold(f64::MIN, f64::max)
-        - along.iter().copied().fold(f64::MAX, f64::min);
+    let span = along.iter().copied().fold(f64::MIN, f64::max) - along.iter().copied().fold(f64::MAX, f64::min);
     assert!(span >= 0.8 * len, "chain spans {span} of {len}");
 }
 
@@ -104,21 +95,14 @@ fn plus_gives_one_junction_and_four_branches() {
     for &e in &t {
         let p = sk.positions[e];
         assert!((p.length() - 1.15).abs() < 0.1, "arm end at {p}");
-        assert!(
-            p.x.abs().min(p.y.abs()) < 0.05,
-            "arm end {p} is on an arm axis"
-        );
+        assert!(p.x.abs().min(p.y.abs()) < 0.05, "arm end {p} is on an arm axis");
     }
 }
 
 #[test]
 fn stars_give_one_branch_per_arm() {
     for n in [3usize, 5, 6] {
-        let sk = skeletonize(
-            &shapes::star(n, 1.0, 0.1, 24),
-            &SkeletonizeParams::default(),
-        )
-        .unwrap();
+        let sk = skeletonize(&shapes::star(n, 1.0, 0.1, 24), &SkeletonizeParams::default()).unwrap();
         check_parent_first(&sk);
         assert_eq!(terminals(&sk).len(), n, "star {n}: {sk:?}");
         let j = junctions(&sk);
@@ -133,9 +117,8 @@ fn humanoid_has_spine_head_arms_and_legs() {
     check_parent_first(&sk);
     let t = terminals(&sk);
     assert_eq!(t.len(), 5, "head, two hands, two feet: {sk:?}");
-    let find = |f: &dyn Fn(DVec3) -> bool| -> Vec<usize> {
-        t.iter().copied().filter(|&j| f(sk.positions[j])).collect()
-    };
+    let find =
+        |f: &dyn Fn(DVec3) -> bool| -> Vec<usize> { t.iter().copied().filter(|&j| f(sk.positions[j])).collect() };
     let head = find(&|p| p.y > 1.65 && p.x.abs() < 0.1);
     let hand_l = find(&|p| p.x > 0.8 && (p.y - 1.38).abs() < 0.05);
     let hand_r = find(&|p| p.x < -0.8 && (p.y - 1.38).abs() < 0.05);
@@ -157,10 +140,7 @@ fn humanoid_has_spine_head_arms_and_legs() {
         pelvis.y > 0.75 && pelvis.y < 1.1 && pelvis.x.abs() < 0.1,
         "pelvis {pelvis}"
     );
-    assert!(
-        chest.y > 1.2 && chest.y < 1.5 && chest.x.abs() < 0.1,
-        "chest {chest}"
-    );
+    assert!(chest.y > 1.2 && chest.y < 1.5 && chest.x.abs() < 0.1, "chest {chest}");
     let neck = sk.positions[common_ancestor(&sk, head[0], hand_l[0])];
     assert!(neck.y > 1.2, "head hangs from the chest, not the pelvis");
     let root = sk.positions[0];
@@ -180,16 +160,8 @@ fn root_hint_and_bones_per_branch() {
     };
     let sk = skeletonize(&m, &p).unwrap();
     check_parent_first(&sk);
-    assert!(
-        sk.positions[0].length() < 0.1,
-        "root at the hint: {}",
-        sk.positions[0]
-    );
-    assert_eq!(
-        sk.len(),
-        1 + 2 * 3,
-        "two branches of three bones from the middle"
-    );
+    assert!(sk.positions[0].length() < 0.1, "root at the hint: {}", sk.positions[0]);
+    assert_eq!(sk.len(), 1 + 2 * 3, "two branches of three bones from the middle");
     // +X aims at the child.
     for j in 1..sk.len() {
         let p = sk.parents[j].unwrap();
@@ -202,11 +174,7 @@ fn root_hint_and_bones_per_branch() {
 
 #[test]
 fn torus_with_silhouette_hole_gives_a_tree() {
-    let sk = skeletonize(
-        &shapes::torus(1.0, 0.2, 48, 12),
-        &SkeletonizeParams::default(),
-    )
-    .unwrap();
+    let sk = skeletonize(&shapes::torus(1.0, 0.2, 48, 12), &SkeletonizeParams::default()).unwrap();
     check_parent_first(&sk);
     assert_eq!(sk.roots().count(), 1);
     for p in &sk.positions {
@@ -236,25 +204,13 @@ fn broken_meshes_still_work() {
     assert_eq!(terminals(&sk).len(), 5);
     // Two disjoint parts: the larger one is kept by default, both with all_parts.
     let two = shapes::merge(&[
-        shapes::capsule(
-            Vec3::new(-3.0, 0.0, 0.0),
-            Vec3::new(-1.0, 0.0, 0.0),
-            0.2,
-            16,
-        ),
+        shapes::capsule(Vec3::new(-3.0, 0.0, 0.0), Vec3::new(-1.0, 0.0, 0.0), 0.2, 16),
         shapes::capsule(Vec3::new(1.0, 0.0, 0.0), Vec3::new(2.0, 0.0, 0.0), 0.2, 16),
     ]);
     let sk = skeletonize(&two, &p).unwrap();
     assert_eq!(sk.roots().count(), 1);
     assert!(sk.positions.iter().all(|q| q.x < -0.5));
-    let sk = skeletonize(
-        &two,
-        &SkeletonizeParams {
-            all_parts: true,
-            ..p
-        },
-    )
-    .unwrap();
+    let sk = skeletonize(&two, &SkeletonizeParams { all_parts: true, ..p }).unwrap();
     check_parent_first(&sk);
     assert_eq!(sk.roots().count(), 2);
     // A flat cut-out works; a line, a point and empty meshes are errors.
@@ -288,19 +244,13 @@ fn broken_meshes_still_work() {
         triangles: vec![[0, 1, 2]],
         ..Default::default()
     };
-    assert!(matches!(
-        skeletonize(&bad, &p),
-        Err(SkeletonizeError::InvalidMesh(_))
-    ));
+    assert!(matches!(skeletonize(&bad, &p), Err(SkeletonizeError::InvalidMesh(_))));
     let oob = Mesh {
         positions: vec![Vec3::ZERO; 3],
         triangles: vec![[0, 1, 9]],
         ..Default::default()
     };
-    assert!(matches!(
-        skeletonize(&oob, &p),
-        Err(SkeletonizeError::InvalidMesh(_))
-    ));
+    assert!(matches!(skeletonize(&oob, &p), Err(SkeletonizeError::InvalidMesh(_))));
 }
 
 proptest! {
@@ -377,9 +327,7 @@ fn capsule_weights_are_normalised_smooth_and_local() {
             for t in &m.triangles {
                 for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
                     for joint in 0..sk.len() {
-                        let d = (weight_of(&w, a as usize, joint)
-                            - weight_of(&w, b as usize, joint))
-                        .abs();
+                        let d = (weight_of(&w, a as usize, joint) - weight_of(&w, b as usize, joint)).abs();
                         assert!(
                             d < 0.3,
                             "{lap:?}: weight of joint {joint} jumps by {d} along edge {a}-{b}"
@@ -428,12 +376,7 @@ fn humanoid_weights_and_fallbacks() {
     // The hand's vertices follow the joint at the elbow-ish middle of the arm.
     let hand = m.positions.iter().position(|p| p.x > 0.88).unwrap();
     let (j, x) = w.influences(hand);
-    let top = j[x
-        .iter()
-        .enumerate()
-        .max_by(|a, b| a.1.total_cmp(b.1))
-        .unwrap()
-        .0] as usize;
+    let top = j[x.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)).unwrap().0] as usize;
     assert!(
         sk.positions[top].x > 0.3,
         "hand is driven by joint {} at {}",

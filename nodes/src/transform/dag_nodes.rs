@@ -329,7 +329,7 @@ impl Joint {
         s.attr_doc(visibility, "display only; affects no output");
         let local = vec![joint_orient.id(), segment_scale_compensate.id(), inverse_scale.id()];
         let common = Common::finish(&mut s, channels, local);
-        s.dag_link("scale", inverse_scale);
+        s.dag_link_from("joint", "scale", inverse_scale);
         Ok(Joint {
             spec: s.build()?,
             common,

@@ -380,7 +380,14 @@ fn specs_declare_groups_and_dag() {
     }
     let j = reg.spec("joint").unwrap();
     let links = &j.dag.as_ref().unwrap().links;
-    assert_eq!(links, &vec![("scale".to_string(), j.find("inverseScale").unwrap().0)]);
+    assert_eq!(
+        links,
+        &vec![sinew_core::DagLink {
+            parent_attr: "scale".to_string(),
+            child_input: j.find("inverseScale").unwrap().0,
+            parent_type: Some("joint".to_string()),
+        }]
+    );
 }
 
 /// time: outTime is the frame, outSeconds = frame / fps (36 / 24 = 1.5).
@@ -402,4 +409,17 @@ fn time_node_reads_graph_time() {
     // a non-positive rate gives 0 seconds, not NaN
     g.set_time(Time::new(5.0, 0.0));
     assert!(g.get_path("time1.outSeconds").unwrap().same_bits(&Value::Float(0.0)));
+}
+
+/// Maya links scale -> inverseScale only joint to joint: a joint under a
+/// scaled plain transform is not compensated.
+#[test]
+fn inverse_scale_links_only_under_joints() {
+    let mut g = graph();
+    g.add_node("transform", "grp").unwrap();
+    g.add_node("joint", "j").unwrap();
+    g.set_path("grp.scale", Value::Vec3(DVec3::splat(2.0))).unwrap();
+    let (grp, j) = (g.node_id("grp").unwrap(), g.node_id("j").unwrap());
+    g.set_parent(j, Some(grp)).unwrap();
+    assert!(g.source_of(g.plug("j.inverseScale").unwrap()).is_none());
 }

@@ -4,10 +4,10 @@
 use glam::{Mat4, Quat, Vec2, Vec3};
 
 use super::assets_dir;
-use sinew_core::data::{Mesh, Weights};
 use crate::io::gltf_read::{read_gltf, read_gltf_slice};
 use crate::io::gltf_write::{write_glb, write_gltf_embedded};
 use crate::io::scene::*;
+use sinew_core::data::{Mesh, Weights};
 
 /// A two-triangle skinned strip on a chain of six joints: vertex 0 has six influences
 /// (one joint listed twice, weights not normalized), animated with STEP, LINEAR and
