@@ -1,12 +1,16 @@
 //! The `sinew` command-line tool: argument parsing and one module per command.
 
+mod eval_cmd;
 mod frames;
 mod nodes_cmd;
+mod rig_cmds;
 
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+pub use eval_cmd::{eval, parse_plug_value, EvalRequest, Format};
 pub use frames::{parse_frames, FrameRange};
 
 /// sinew: a Maya-style rig evaluator — check, evaluate and bake rigs written as RON text.
@@ -27,6 +31,60 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Validate a rig: a one-line summary, or every error as file:line:col.
+    Check {
+        /// The rig file.
+        rig: PathBuf,
+        /// Re-validate whenever the rig or a component file it uses changes.
+        #[arg(long)]
+        watch: bool,
+        /// With --watch: stop after this many validations (for scripts and tests).
+        #[arg(long, hide = true)]
+        max_runs: Option<usize>,
+    },
+    /// Rewrite rigs in canonical form (stable order, defaults omitted).
+    Fmt {
+        /// Rig files.
+        #[arg(required = true)]
+        rigs: Vec<PathBuf>,
+        /// Do not write; fail if a file is not canonical (for CI).
+        #[arg(long)]
+        check: bool,
+    },
+    /// Print a rig's node graph as Graphviz DOT (default) or JSON.
+    Graph {
+        /// The rig file.
+        rig: PathBuf,
+        /// Graphviz DOT output.
+        #[arg(long, conflicts_with = "json")]
+        dot: bool,
+        /// JSON output.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Evaluate a rig frame by frame and print plugs.
+    Eval {
+        /// The rig file.
+        rig: PathBuf,
+        /// Frames: START..=END, START..END or one frame (default: the rig's frame range).
+        #[arg(long)]
+        frames: Option<String>,
+        /// Frames per second (default: the rig's fps, else 24).
+        #[arg(long)]
+        fps: Option<f64>,
+        /// Plugs to print, comma-separated or repeated: node.attr, node.attr[2], node.attrX.
+        #[arg(long, required = true)]
+        print: Vec<String>,
+        /// Override an input before evaluating: node.attr=value (RON syntax, e.g. (1, 2, 3)).
+        #[arg(long)]
+        set: Vec<String>,
+        /// Output format.
+        #[arg(long, value_enum, default_value_t = Format::Csv)]
+        format: Format,
+        /// Evaluate lazily through the graph instead of the compiled schedule.
+        #[arg(long)]
+        lazy: bool,
+    },
 }
 
 /// Runs the CLI with the given arguments; returns the process exit code.
@@ -45,18 +103,60 @@ pub fn run(args: impl IntoIterator<Item = std::ffi::OsString>) -> ExitCode {
     match execute(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(message) => {
-            eprintln!("error: {message}");
+            eprintln!(
+                "{}",
+                if message.contains(": error: ") {
+                    message
+                } else {
+                    format!("error: {message}")
+                }
+            );
             ExitCode::from(1)
         }
+    }
+}
+
+fn print(text: &str) {
+    if text.ends_with('\n') {
+        print!("{text}");
+    } else if !text.is_empty() {
+        println!("{text}");
     }
 }
 
 fn execute(cli: Cli) -> Result<(), String> {
     let registry = crate::default_registry().map_err(|e| format!("internal error in a node plugin: {e}"))?;
     match cli.command {
-        Command::Nodes { node_type, json } => {
-            print!("{}", nodes_cmd::render(&registry, node_type.as_deref(), json)?);
-            Ok(())
+        Command::Nodes { node_type, json } => print(&nodes_cmd::render(&registry, node_type.as_deref(), json)?),
+        Command::Check { rig, watch, max_runs } => {
+            if watch {
+                rig_cmds::watch(&rig, &registry, max_runs)?;
+            } else {
+                print(&rig_cmds::check(&rig, &registry)?);
+            }
+        }
+        Command::Fmt { rigs, check } => print(&rig_cmds::fmt(&rigs, check, &registry)?),
+        Command::Graph { rig, dot: _, json } => print(&rig_cmds::graph(&rig, json, &registry)?),
+        Command::Eval {
+            rig,
+            frames,
+            fps,
+            print: plugs,
+            set,
+            format,
+            lazy,
+        } => {
+            let req = EvalRequest {
+                rig,
+                frames,
+                fps,
+                print: plugs,
+                set,
+                format,
+                lazy,
+            };
+            print(&eval(&req, &registry)?);
         }
     }
+    Ok(())
 }

@@ -147,12 +147,15 @@ impl AimConstraint {
             "translate of the constrained node (connect from it): the aim origin",
         );
         let aim_vector = b.input("aimVector", DVec3::X);
+        b.mirror(aim_vector, sinew_core::MirrorRole::LocalVector);
         b.attr_doc(aim_vector, "local axis that points at the target");
         let up_vector = b.input("upVector", DVec3::Y);
+        b.mirror(up_vector, sinew_core::MirrorRole::LocalVector);
         b.attr_doc(up_vector, "local axis that follows the world up direction");
         let world_up_type = b.input_enum("worldUpType", &WORLD_UP_TYPES, 3);
         b.attr_doc(world_up_type, "what the up vector follows (see the node docs)");
         let world_up_vector = b.input("worldUpVector", DVec3::Y);
+        b.mirror(world_up_vector, sinew_core::MirrorRole::WorldVector);
         b.attr_doc(
             world_up_vector,
             "world up direction (vector) or up direction in worldUpMatrix space (objectRotation)",

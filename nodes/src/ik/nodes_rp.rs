@@ -158,6 +158,7 @@ impl IkRp {
         let chain = ChainInputs::declare(&mut b);
         let goal = GoalInputs::declare(&mut b);
         let pole_vector = b.input("poleVector", DVec3::ZERO);
+        b.mirror(pole_vector, sinew_core::MirrorRole::WorldVector);
         b.attr_doc(
             pole_vector,
             "world-space vector from the start joint towards the bend side; zero keeps the rest bend plane",

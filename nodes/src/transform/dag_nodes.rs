@@ -25,7 +25,9 @@
 //! `visibility`, `preferredAngle` and `radius` affect no output.
 
 use glam::{DMat4, DVec3};
-use sinew_core::{ComputeContext, ComputeError, Input, NodeSpec, NodeType, Output, SpecBuilder, SpecError, Unit};
+use sinew_core::{
+    ComputeContext, ComputeError, Input, MirrorRole, NodeSpec, NodeType, Output, SpecBuilder, SpecError, Unit,
+};
 
 use super::euler::RotateOrder;
 use super::math::{JointParams, TransformParams};
@@ -89,6 +91,9 @@ impl Common {
             .attr_doc(rotate_order, "order in which the X, Y, Z rotations apply");
         let scale = s.input("scale", DVec3::ONE);
         s.attr_doc(scale, "scale along the local axes");
+        s.mirror(translate, MirrorRole::Translate)
+            .mirror(rotate, MirrorRole::Rotate)
+            .mirror(rotate_order, MirrorRole::RotateOrder);
         let rotate_axis = s.input("rotateAxis", DVec3::ZERO);
         s.unit(rotate_axis, Unit::Degrees)
             .keyable(rotate_axis, false)
@@ -122,6 +127,7 @@ impl Common {
         let parent_matrix = s.input("parentMatrix", DMat4::IDENTITY);
         s.attr_doc(parent_matrix, "world matrix of the DAG parent (connected by parenting)");
         let offset_parent_matrix = s.input("offsetParentMatrix", DMat4::IDENTITY);
+        s.mirror(offset_parent_matrix, MirrorRole::Matrix);
         s.attr_doc(
             offset_parent_matrix,
             "extra parent-space offset (Maya 2020+): world = parentMatrix * offsetParentMatrix * matrix",
@@ -219,7 +225,10 @@ impl Transform {
         s.keyable(shear, false).attr_doc(shear, "shear (xy, xz, yz)");
         let mut pivot = |name: &str, doc: &str| {
             let h = s.input(name, DVec3::ZERO);
-            s.unit(h, Unit::Distance).keyable(h, false).attr_doc(h, doc);
+            s.unit(h, Unit::Distance)
+                .keyable(h, false)
+                .attr_doc(h, doc)
+                .mirror(h, MirrorRole::Translate);
             h
         };
         let rotate_pivot = pivot("rotatePivot", "point (local space) that rotation happens about");
@@ -303,6 +312,7 @@ impl Joint {
         s.doc("a skeleton joint: local matrix S·RA·R·JO·IS·T with segment scale compensation; world = parent * local");
         let channels = Common::declare_channels(&mut s);
         let joint_orient = s.input("jointOrient", DVec3::ZERO);
+        s.mirror(joint_orient, MirrorRole::JointOrient);
         s.unit(joint_orient, Unit::Degrees)
             .keyable(joint_orient, false)
             .attr_doc(joint_orient, "rest orientation (xyz, degrees) applied after rotate");

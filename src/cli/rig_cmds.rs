@@ -1,0 +1,101 @@
+//! `sinew check`, `sinew fmt` and `sinew graph`: validating, formatting and
+//! exporting rig files.
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::{Duration, SystemTime};
+
+use sinew_core::rig::{format_rig_file, load_rig, rig_dependencies, to_dot, to_json, LoadedRig};
+use sinew_core::Registry;
+
+/// Loads a rig or returns its rendered diagnostics as the error.
+pub fn load(path: &Path, registry: &Arc<Registry>) -> Result<LoadedRig, String> {
+    load_rig(path, registry).map_err(|d| d.render().trim_end().to_string())
+}
+
+/// The one-line summary `sinew check` prints for a valid rig.
+pub fn summary(path: &Path, rig: &LoadedRig) -> String {
+    let g = &rig.graph;
+    let types: BTreeSet<&str> = g.nodes().into_iter().filter_map(|n| g.node_type(n)).collect();
+    format!(
+        "{}: ok: {} nodes, {} connections, node types: {}",
+        path.display(),
+        g.node_count(),
+        g.connections().len(),
+        types.into_iter().collect::<Vec<_>>().join(", ")
+    )
+}
+
+/// `sinew check RIG`: Ok(summary) or Err(diagnostics).
+pub fn check(path: &Path, registry: &Arc<Registry>) -> Result<String, String> {
+    load(path, registry).map(|rig| summary(path, &rig))
+}
+
+fn stamps(files: &[PathBuf]) -> Vec<Option<SystemTime>> {
+    files
+        .iter()
+        .map(|f| std::fs::metadata(f).and_then(|m| m.modified()).ok())
+        .collect()
+}
+
+/// `sinew check --watch RIG`: re-validates whenever the rig or any component
+/// file it includes changes (polling modification times every 100 ms).
+/// Runs until interrupted, or for `max_runs` validations when given.
+pub fn watch(path: &Path, registry: &Arc<Registry>, max_runs: Option<usize>) -> Result<(), String> {
+    let mut runs = 0;
+    loop {
+        let files = rig_dependencies(path);
+        let before = stamps(&files);
+        let started = std::time::Instant::now();
+        match check(path, registry) {
+            Ok(s) => println!("{s} ({:.1} ms)", started.elapsed().as_secs_f64() * 1000.0),
+            Err(e) => println!("{e}"),
+        }
+        runs += 1;
+        if max_runs.is_some_and(|m| runs >= m) {
+            return Ok(());
+        }
+        loop {
+            std::thread::sleep(Duration::from_millis(100));
+            let files_now = rig_dependencies(path);
+            if files_now != files || stamps(&files_now) != before {
+                break;
+            }
+        }
+    }
+}
+
+/// `sinew fmt [--check] RIG...`: rewrites rigs canonically, or with `check`
+/// lists the ones that are not canonical (error).
+pub fn fmt(paths: &[PathBuf], check_only: bool, registry: &Arc<Registry>) -> Result<String, String> {
+    let mut report = Vec::new();
+    let mut bad = Vec::new();
+    for p in paths {
+        let formatted = format_rig_file(p, registry).map_err(|d| d.render().trim_end().to_string())?;
+        let current = std::fs::read_to_string(p).map_err(|e| format!("{}: cannot read: {e}", p.display()))?;
+        if current == formatted {
+            report.push(format!("{}: already formatted", p.display()));
+        } else if check_only {
+            bad.push(format!(
+                "{}: not formatted; run `sinew fmt {}`",
+                p.display(),
+                p.display()
+            ));
+        } else {
+            std::fs::write(p, &formatted).map_err(|e| format!("{}: cannot write: {e}", p.display()))?;
+            report.push(format!("{}: formatted", p.display()));
+        }
+    }
+    if bad.is_empty() {
+        Ok(report.join("\n"))
+    } else {
+        Err(bad.join("\n"))
+    }
+}
+
+/// `sinew graph RIG --dot|--json`.
+pub fn graph(path: &Path, json: bool, registry: &Arc<Registry>) -> Result<String, String> {
+    let rig = load(path, registry)?;
+    Ok(if json { to_json(&rig.graph) } else { to_dot(&rig.graph) })
+}

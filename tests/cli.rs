@@ -1,0 +1,216 @@
+//! End-to-end tests of the `sinew` binary: exit codes, messages and numbers.
+
+use std::process::Command;
+
+fn sinew(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_sinew"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("run sinew");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn help_lists_the_commands() {
+    let (code, out, _) = sinew(&["--help"]);
+    assert_eq!(code, 0);
+    for cmd in ["nodes", "check", "fmt", "graph", "eval"] {
+        assert!(out.contains(cmd), "--help lacks {cmd}:\n{out}");
+    }
+}
+
+#[test]
+fn nodes_lists_types_as_text_and_json() {
+    let (code, out, _) = sinew(&["nodes", "multiplyDivide"]);
+    assert_eq!(code, 0);
+    assert!(
+        out.contains("operation: enum (noOperation|multiply|divide|power)"),
+        "{out}"
+    );
+    let (code, out, _) = sinew(&["nodes", "--json"]);
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&out).expect("valid JSON");
+    let names: Vec<&str> = v
+        .as_array()
+        .expect("array")
+        .iter()
+        .filter_map(|t| t["name"].as_str())
+        .collect();
+    for t in [
+        "transform",
+        "joint",
+        "multiplyDivide",
+        "animCurveTL",
+        "parentConstraint",
+        "ikRP",
+    ] {
+        assert!(names.contains(&t), "{t} missing from sinew nodes --json");
+    }
+    let (code, _, err) = sinew(&["nodes", "multDiv"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("unknown node type \"multDiv\""), "{err}");
+}
+
+#[test]
+fn check_reports_a_summary_or_every_error_with_positions() {
+    let (code, out, _) = sinew(&["check", "graphs/tests/cli/spin.ron"]);
+    assert_eq!(code, 0);
+    assert!(
+        out.contains("ok: 3 nodes") && out.contains("animCurveTA, joint"),
+        "{out}"
+    );
+    let (code, out, err) = sinew(&["check", "graphs/tests/cli/broken.ron"]);
+    assert_eq!(code, 1, "{out}");
+    assert!(
+        err.contains("broken.ron:4:14: error: unknown node type `multiplyDivde`"),
+        "{err}"
+    );
+    assert!(err.contains("did you mean `multiplyDivide`?"), "{err}");
+    assert!(err.contains("broken.ron:5:37: error: `input1` expects vec3"), "{err}");
+    assert!(
+        err.contains("broken.ron:8:12: error:") && err.contains("did you mean `output`?"),
+        "{err}"
+    );
+    let (code, _, err) = sinew(&["check", "graphs/tests/cli/does_not_exist.ron"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("does_not_exist.ron"), "{err}");
+}
+
+/// spin.ron: root joint at (0,1,0) rotated about Z by a linear curve 0 -> 90
+/// degrees over frames 1..3; tip at local (2,0,0). At frame 2 the angle is 45
+/// degrees, so tip world = (2 cos 45, 1 + 2 sin 45, 0) = (1.41421..., 2.41421..., 0).
+#[test]
+fn eval_prints_hand_computed_values() {
+    let (code, out, err) = sinew(&[
+        "eval",
+        "graphs/tests/cli/spin.ron",
+        "--print",
+        "tip.worldMatrix,root.rotateZ",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let rows: Vec<Vec<f64>> = out
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|c| c.parse::<f64>().expect("number")).collect())
+        .collect();
+    assert_eq!(rows.len(), 3, "frames 1..=3 from the rig's frame range");
+    let f2 = &rows[1];
+    assert_eq!(f2[0], 2.0);
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    assert!(
+        (f2[13] - 2.0 * s).abs() < 1e-12 && (f2[14] - (1.0 + 2.0 * s)).abs() < 1e-12,
+        "{f2:?}"
+    );
+    assert_eq!(f2[17], 45.0);
+    // Lazy and compiled print the same text.
+    let (_, lazy, _) = sinew(&[
+        "eval",
+        "graphs/tests/cli/spin.ron",
+        "--print",
+        "tip.worldMatrix,root.rotateZ",
+        "--lazy",
+    ]);
+    assert_eq!(lazy, out);
+    // --set overrides an input; jsonl format.
+    let (code, out, _) = sinew(&[
+        "eval",
+        "graphs/tests/cli/spin.ron",
+        "--frames",
+        "3",
+        "--print",
+        "root.rotateZ",
+        "--set",
+        "spin.keyValue[1]=180",
+        "--format",
+        "jsonl",
+    ]);
+    assert_eq!(code, 0);
+    assert_eq!(out.trim(), r#"{"frame":3,"values":{"root.rotateZ":180.0}}"#);
+}
+
+#[test]
+fn eval_errors_are_clear() {
+    let (code, _, err) = sinew(&["eval", "graphs/tests/cli/spin.ron", "--print", "tip.worldMatrx"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("did you mean \"worldMatrix\""), "{err}");
+    let (code, _, err) = sinew(&[
+        "eval",
+        "graphs/tests/cli/spin.ron",
+        "--print",
+        "root.rotate",
+        "--frames",
+        "5..=1",
+    ]);
+    assert_eq!(code, 1);
+    assert!(err.contains("empty"), "{err}");
+    let (code, _, err) = sinew(&[
+        "eval",
+        "graphs/tests/cli/spin.ron",
+        "--print",
+        "root.rotate",
+        "--set",
+        "root.rotate=(1, 2)",
+    ]);
+    assert_eq!(code, 1);
+    assert!(err.contains("expects vec3"), "{err}");
+}
+
+#[test]
+fn fmt_check_graph_and_watch() {
+    let (code, out, _) = sinew(&["fmt", "--check", "graphs/tests/cli/spin.ron"]);
+    assert_eq!(code, 0, "{out}");
+    let dir = std::env::temp_dir().join(format!("sinew-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let messy = dir.join("messy.ron");
+    std::fs::write(&messy, "Rig(name:\"m\",nodes:{\"a\":joint(translate:(1,2,3))})").expect("write");
+    let m = messy.to_str().expect("utf-8 path");
+    let (code, _, err) = sinew(&["fmt", "--check", m]);
+    assert_eq!(code, 1);
+    assert!(err.contains("not formatted"), "{err}");
+    let (code, _, _) = sinew(&["fmt", m]);
+    assert_eq!(code, 0);
+    let (code, _, _) = sinew(&["fmt", "--check", m]);
+    assert_eq!(code, 0);
+    let (code, dot, _) = sinew(&["graph", "graphs/tests/cli/spin.ron", "--dot"]);
+    assert_eq!(code, 0);
+    assert!(dot.starts_with("digraph") && dot.contains("\"spin\""), "{dot}");
+    let (code, json, _) = sinew(&["graph", "graphs/tests/cli/spin.ron", "--json"]);
+    assert_eq!(code, 0);
+    serde_json::from_str::<serde_json::Value>(&json).expect("graph --json is JSON");
+    let (code, out, _) = sinew(&["check", "--watch", "--max-runs", "1", m]);
+    assert_eq!(code, 0);
+    assert!(out.contains("ok: 1 nodes"), "{out}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `check --watch` re-validates when the rig changes: the second run sees the edit.
+#[test]
+fn watch_revalidates_on_change() {
+    let dir = std::env::temp_dir().join(format!("sinew-watch-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let rig = dir.join("w.ron");
+    std::fs::write(&rig, "Rig(name: \"w\", nodes: { \"a\": joint() })\n").expect("write");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_sinew"))
+        .args(["check", "--watch", "--max-runs", "2", rig.to_str().expect("utf-8")])
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .expect("spawn");
+    // Give the first validation time to run, then break the rig.
+    std::thread::sleep(std::time::Duration::from_millis(700));
+    std::fs::write(&rig, "Rig(name: \"w\", nodes: { \"a\": jiont() })\n").expect("rewrite");
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(20);
+    while child.try_wait().expect("wait").is_none() {
+        assert!(std::time::Instant::now() < deadline, "watch did not notice the change");
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    let out = child.wait_with_output().expect("output");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("ok: 1 nodes"), "{text}");
+    assert!(text.contains("unknown node type `jiont`"), "{text}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
