@@ -64,15 +64,15 @@ impl Default for AttrBinding {
 
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Assembly {
-    own: u32,
-    comps: [Option<(u32, Option<u8>)>; 3],
+    pub own: u32,
+    pub comps: [Option<(u32, Option<u8>)>; 3],
 }
 
 /// Binding tables shared by all steps of a program.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct CompiledTables {
     pub elems: Vec<ElemBinding>,
-    assemblies: Vec<Assembly>,
+    pub assemblies: Vec<Assembly>,
 }
 
 fn lane(slots: &[Value], slot: u32, comp: Option<u8>) -> f64 {
@@ -108,12 +108,12 @@ impl CompiledTables {
     }
 }
 
-struct Step {
-    kind: Arc<dyn NodeType>,
-    node: u32,
-    attr_base: u32,
-    attr_count: u32,
-    group: u16,
+pub(crate) struct Step {
+    pub kind: Arc<dyn NodeType>,
+    pub node: u32,
+    pub attr_base: u32,
+    pub attr_count: u32,
+    pub group: u16,
 }
 
 /// Options for [`Program::compile`].
@@ -125,23 +125,23 @@ pub struct CompileOptions {
     pub dynamic_inputs: Vec<Plug>,
 }
 
-struct NodeEntry {
-    name: String,
-    kind: Arc<dyn NodeType>,
-    attr_base: u32,
+pub(crate) struct NodeEntry {
+    pub name: String,
+    pub kind: Arc<dyn NodeType>,
+    pub attr_base: u32,
 }
 
 /// A graph compiled into a flat schedule. Immutable; share it with `Arc`.
 pub struct Program {
-    steps: Vec<Step>,
-    frame_steps: Vec<u32>,
-    attr_bindings: Vec<AttrBinding>,
-    tables: CompiledTables,
-    initial: Vec<Value>,
-    dynamic_slot: Vec<bool>,
-    own_input_slot: Vec<bool>,
-    nodes: Vec<NodeEntry>,
-    node_index: HashMap<String, u32>,
+    pub(crate) steps: Vec<Step>,
+    pub(crate) frame_steps: Vec<u32>,
+    pub(crate) attr_bindings: Vec<AttrBinding>,
+    pub(crate) tables: CompiledTables,
+    pub(crate) initial: Vec<Value>,
+    pub(crate) dynamic_slot: Vec<bool>,
+    pub(crate) own_input_slot: Vec<bool>,
+    pub(crate) nodes: Vec<NodeEntry>,
+    pub(crate) node_index: HashMap<String, u32>,
 }
 
 impl std::fmt::Debug for Program {

@@ -34,7 +34,11 @@ fn compiled_frames_do_not_allocate() {
     g.add_node("vecScale", "v").expect("add");
     for i in 0..50 {
         g.add_node("add", &format!("a{i}")).expect("add");
-        let src = if i == 0 { "t.output".to_string() } else { format!("a{}.output", i - 1) };
+        let src = if i == 0 {
+            "t.output".to_string()
+        } else {
+            format!("a{}.output", i - 1)
+        };
         g.connect_path(&src, &format!("a{i}.input1")).expect("connect");
         g.set_path(&format!("a{i}.input2"), Value::Float(0.5)).expect("set");
     }

@@ -186,9 +186,29 @@ impl Graph {
         if !driven {
             return;
         }
+        // Fast path: a whole-plug connection from a plug that holds its own
+        // value; compare in place and clone only when the value changed.
+        if let Some(src) = self.plain_source(plug) {
+            let same = match (self.elem_ref(src), self.elem_ref(plug)) {
+                (Some(a), Some(b)) => a.value.same_bits(&b.value),
+                _ => return,
+            };
+            if same {
+                return;
+            }
+            let Some(v) = self.elem_ref(src).map(|e| e.value.clone()) else {
+                return;
+            };
+            self.store_refreshed(plug, v);
+            return;
+        }
         let Some(v) = self.resolve_source_value(plug) else {
             return;
         };
+        self.store_refreshed(plug, v);
+    }
+
+    fn store_refreshed(&mut self, plug: Plug, v: crate::value::Value) {
         let rev = self.revision;
         let store = &mut self.nodes[plug.node].attrs[plug.attr.index()];
         if let Some(k) = store.find(plug.elem()) {
@@ -198,6 +218,24 @@ impl Graph {
                 e.changed_at = rev;
             }
         }
+    }
+
+    fn elem_ref(&self, plug: Plug) -> Option<&super::store::Elem> {
+        let store = self.nodes.get(plug.node)?.attrs.get(plug.attr.index())?;
+        store.elems.get(store.find(plug.elem())?)
+    }
+
+    /// The plug whose stored value flows unchanged into `plug`, when the
+    /// connection is whole (no components) and the source holds its value
+    /// (it is an output, or an input with no source of its own).
+    fn plain_source(&self, plug: Plug) -> Option<Plug> {
+        let e = self.elem_ref(plug)?;
+        let src = e.source?;
+        if src.component.is_some() || e.comp_sources.is_some() {
+            return None;
+        }
+        let se = self.elem_ref(src)?;
+        (!se.is_driven()).then_some(src)
     }
 
     /// Brings group `g` of `node` up to date (no recursion: explicit stack).
@@ -242,13 +280,15 @@ impl Graph {
             // Upstream is clean: refresh connected inputs, then decide.
             for &a in group.inputs.iter().filter(|&&a| spec.attr(a).is_input()) {
                 let multi = spec.attr(a).multi;
-                let indices: Vec<u32> = self.nodes[n].attrs[a.index()]
-                    .elems
-                    .iter()
-                    .filter(|e| e.is_driven())
-                    .map(|e| e.index)
-                    .collect();
-                for i in indices {
+                let count = self.nodes[n].attrs[a.index()].elems.len();
+                for k in 0..count {
+                    let Some(e) = self.nodes[n].attrs[a.index()].elems.get(k) else {
+                        break;
+                    };
+                    if !e.is_driven() {
+                        continue;
+                    }
+                    let i = e.index;
                     self.refresh_input(Plug {
                         node: n,
                         attr: a,
