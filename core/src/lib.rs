@@ -13,6 +13,7 @@ pub mod graph;
 pub mod node;
 pub mod path;
 pub mod program;
+pub mod program_bin;
 pub mod registry;
 pub mod rig;
 pub mod spec;

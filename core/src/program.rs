@@ -123,6 +123,11 @@ pub struct CompileOptions {
     /// Steps downstream of them run every frame; setting any other input makes
     /// the next evaluation run the whole program once.
     pub dynamic_inputs: Vec<Plug>,
+    /// When set, only what these plugs need is computed: steps whose outputs
+    /// nobody reads (unconnected inverse matrices, debug outputs...) are left
+    /// out of the schedule, and handles to their outputs are refused. `None`
+    /// (the default) computes everything.
+    pub observed: Option<Vec<Plug>>,
 }
 
 pub(crate) struct NodeEntry {
@@ -140,6 +145,8 @@ pub struct Program {
     pub(crate) initial: Vec<Value>,
     pub(crate) dynamic_slot: Vec<bool>,
     pub(crate) own_input_slot: Vec<bool>,
+    /// Output slots whose step was pruned (see [`CompileOptions::observed`]).
+    pub(crate) pruned_slot: Vec<bool>,
     pub(crate) nodes: Vec<NodeEntry>,
     pub(crate) node_index: HashMap<String, u32>,
 }
@@ -232,6 +239,15 @@ impl Program {
                     "{path}: this element did not exist when the program was compiled"
                 ))
             })?;
+        let reads_pruned = match eb.binding {
+            Binding::Slot(s) | Binding::Component(s, _) => self.pruned_slot.get(s as usize).copied().unwrap_or(false),
+            Binding::Assemble(_) => false,
+        };
+        if reads_pruned {
+            return Err(Error::Program(format!(
+                "{path} is not computed by this program; list it in CompileOptions::observed"
+            )));
+        }
         let ty = if comp.is_some() { AttrType::Float } else { a.ty };
         let binding = match (eb.binding, comp) {
             (b, None) => b,
@@ -680,6 +696,35 @@ impl<'g> Compiler<'g> {
                 "the graph has a plug-level cycle; it cannot be compiled".into(),
             ));
         }
+        // Prune steps nothing observed needs.
+        let mut needed = vec![options.observed.is_none(); n];
+        if let Some(observed) = &options.observed {
+            let mut stack = Vec::new();
+            for p in observed {
+                let b = self.binding_of(*p, 0)?;
+                let mut reads = Vec::new();
+                slot_reads(b, &mut reads);
+                for s in reads {
+                    if let Some(prod) = self.output_slot_producer[s as usize] {
+                        if let Some(&d) = step_of.get(&prod) {
+                            stack.push(d as usize);
+                        }
+                    }
+                }
+            }
+            while let Some(i) = stack.pop() {
+                if !std::mem::replace(&mut needed[i], true) {
+                    stack.extend(deps[i].iter().map(|&d| d as usize));
+                }
+            }
+            order.retain(|&i| needed[i as usize]);
+        }
+        let mut pruned_slot = vec![false; self.initial.len()];
+        for (s, prod) in self.output_slot_producer.iter().enumerate() {
+            if let Some(&d) = prod.as_ref().and_then(|p| step_of.get(p)) {
+                pruned_slot[s] = !needed[d as usize];
+            }
+        }
         let mut dynamic = vec![false; n];
         for &i in &order {
             let i = i as usize;
@@ -726,6 +771,7 @@ impl<'g> Compiler<'g> {
             initial: self.initial,
             dynamic_slot,
             own_input_slot,
+            pruned_slot,
             nodes,
             node_index,
         })

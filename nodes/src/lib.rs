@@ -24,6 +24,9 @@ pub fn register_all(registry: &mut Registry) -> Result<(), SpecError> {
     anim::register(registry)?;
     constraint::register(registry)?;
     ik::register(registry)?;
+    deform::register(registry)?;
+    #[cfg(feature = "skeletonize")]
+    skeletonize::register(registry)?;
     Ok(())
 }
 

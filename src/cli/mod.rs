@@ -1,9 +1,13 @@
 //! The `sinew` command-line tool: argument parsing and one module per command.
 
+mod bake_cmd;
 mod eval_cmd;
 mod frames;
+mod import_cmd;
 mod nodes_cmd;
+mod retarget_cmd;
 mod rig_cmds;
+mod skeletonize_cmd;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -85,6 +89,71 @@ enum Command {
         #[arg(long)]
         lazy: bool,
     },
+    /// Import a glTF (.gltf/.glb) or BVH file as a rig (RIG.ron plus its data file RIG.data.ron).
+    Import {
+        /// The model or motion file.
+        model: PathBuf,
+        /// The rig file to write.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// glTF: the animation to import, by name or index (default: the first).
+        #[arg(long)]
+        animation: Option<String>,
+        /// glTF: the rig's frame rate (default 30; playback is exact at any rate).
+        #[arg(long)]
+        fps: Option<f64>,
+    },
+    /// Evaluate a rig over frames and write a glTF (.glb or .gltf) with skeleton, skins, morphs and animation.
+    Bake {
+        /// The rig file.
+        rig: PathBuf,
+        /// Frames: START..=END, START..END or one frame (default: the rig's frame range).
+        #[arg(long)]
+        frames: Option<String>,
+        /// Frames per second (default: the rig's fps, else 24).
+        #[arg(long)]
+        fps: Option<f64>,
+        /// Remove keys that linear interpolation reproduces within this tolerance (0 keeps all).
+        #[arg(long, default_value_t = 0.0)]
+        tolerance: f64,
+        /// The glTF file to write.
+        #[arg(short, long)]
+        output: PathBuf,
+    },
+    /// Retarget a BVH take onto a rig's skeleton and bake the result to glTF.
+    Retarget {
+        /// The motion capture file (.bvh).
+        mocap: PathBuf,
+        /// The target rig.
+        #[arg(long)]
+        to: PathBuf,
+        /// Joint map: a RON map { "SourceJoint": "targetJoint", .. } (default: by humanoid names).
+        #[arg(long)]
+        map: Option<PathBuf>,
+        /// The glTF file to write.
+        #[arg(short, long)]
+        output: PathBuf,
+    },
+    /// Extract a skeleton and bone-heat skin weights from a mesh and write an editable rig.
+    Skeletonize {
+        /// The mesh file (.obj, .gltf or .glb).
+        mesh: PathBuf,
+        /// The rig file to write (its heavy data goes to RIG.data.ron next to it).
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Silhouette raster resolution in pixels along the longer side (default 256).
+        #[arg(long)]
+        resolution: Option<usize>,
+        /// Bones per branch, spaced evenly (default: joints where branches turn).
+        #[arg(long)]
+        bones_per_branch: Option<usize>,
+        /// Joints per vertex in the skin weights (0 = unlimited).
+        #[arg(long, default_value_t = 4)]
+        max_influences: usize,
+        /// Skip the skin weights and the skinCluster.
+        #[arg(long)]
+        no_weights: bool,
+    },
 }
 
 /// Runs the CLI with the given arguments; returns the process exit code.
@@ -156,6 +225,55 @@ fn execute(cli: Cli) -> Result<(), String> {
                 lazy,
             };
             print(&eval(&req, &registry)?);
+        }
+        Command::Import {
+            model,
+            output,
+            animation,
+            fps,
+        } => print(&import_cmd::import(
+            &model,
+            &output,
+            animation.as_deref(),
+            fps,
+            &registry,
+        )?),
+        Command::Bake {
+            rig,
+            frames,
+            fps,
+            tolerance,
+            output,
+        } => print(&bake_cmd::bake_cmd(
+            &rig,
+            frames.as_deref(),
+            fps,
+            tolerance,
+            &output,
+            &registry,
+        )?),
+        Command::Retarget { mocap, to, map, output } => print(&retarget_cmd::retarget_cmd(
+            &mocap,
+            &to,
+            map.as_deref(),
+            &output,
+            &registry,
+        )?),
+        Command::Skeletonize {
+            mesh,
+            output,
+            resolution,
+            bones_per_branch,
+            max_influences,
+            no_weights,
+        } => {
+            let opts = skeletonize_cmd::SkeletonizeOptions {
+                resolution,
+                bones_per_branch,
+                max_influences,
+                weights: !no_weights,
+            };
+            print(&skeletonize_cmd::skeletonize_cmd(&mesh, &output, &opts, &registry)?)
         }
     }
     Ok(())

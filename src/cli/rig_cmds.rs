@@ -6,10 +6,13 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, SystemTime};
 
-use sinew_core::rig::{format_rig_file, load_rig, rig_dependencies, to_dot, to_json, LoadedRig};
+use sinew_core::rig::{format_rig_file, rig_dependencies, to_dot, to_json, LoadedRig};
+
+use crate::io::mesh_file::load_rig;
 use sinew_core::Registry;
 
-/// Loads a rig or returns its rendered diagnostics as the error.
+/// Loads a rig (with mesh `File(..)` references resolved) or returns its
+/// rendered diagnostics as the error.
 pub fn load(path: &Path, registry: &Arc<Registry>) -> Result<LoadedRig, String> {
     load_rig(path, registry).map_err(|d| d.render().trim_end().to_string())
 }

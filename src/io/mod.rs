@@ -2,10 +2,17 @@
 //! BVH motion capture in, glTF 2.0 in and out. Nothing here touches the graph; the
 //! importer and baker map these structs to and from graph nodes.
 
+pub mod bake;
 pub mod bvh;
 mod gltf_binary;
 pub mod gltf_read;
 pub mod gltf_write;
+pub mod import_bvh;
+pub mod import_gltf;
+pub mod mesh_file;
+pub mod retarget;
+pub mod rig_builder;
+pub mod runtime_view;
 pub mod scene;
 
 pub use bvh::{parse_bvh, Bvh, BvhError};

@@ -275,6 +275,7 @@ fn compiled_dynamic_inputs_rerun_only_downstream() {
             &g,
             &CompileOptions {
                 dynamic_inputs: vec![head],
+                ..Default::default()
             },
         )
         .unwrap(),
@@ -315,4 +316,33 @@ fn precompute_group_runs_once_and_time_group_every_frame() {
     assert_eq!(inst.get_typed::<f64>(&h), Some(10.0));
     inst.evaluate(Time::new(7.0, 24.0)).unwrap();
     assert_eq!(inst.get_typed::<f64>(&h), Some(14.0));
+}
+
+#[test]
+fn observed_outputs_prune_unread_steps() {
+    let mut g = graph();
+    chain(&mut g, 3);
+    g.add_node("add", "unread").unwrap();
+    g.add_node("twoGroups", "tg").unwrap();
+    g.connect_path("a2.output", "tg.b").unwrap();
+    let observed = vec![g.plug("tg.echo").unwrap()];
+    let p = Program::compile(
+        &g,
+        &CompileOptions {
+            observed: Some(observed),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    // a0, a1, a2 and tg's echo group; not "unread", not tg's sum group.
+    assert_eq!(p.step_count(), 4);
+    let p = Arc::new(p);
+    let mut inst = Instance::new(p.clone());
+    inst.evaluate(Time::default()).unwrap();
+    assert_eq!(inst.get_typed::<f64>(&p.handle("tg.echo").unwrap()), Some(3.0));
+    let e = p.handle("tg.sum").unwrap_err();
+    assert!(e.to_string().contains("CompileOptions::observed"), "{e}");
+    assert!(p.handle("unread.output").is_err());
+    // Inputs stay readable.
+    assert!(p.handle("unread.input1").is_ok());
 }

@@ -15,14 +15,14 @@ use std::sync::Arc;
 use super::diag::{Diagnostic, Diagnostics, Span};
 use super::doc::{read_document, Body, ConnDecl, NodeDecl, RigDocument, SetDecl, UseDecl};
 use super::mirror::{mirror_value, MirrorContext};
-use super::parse::{parse, Node};
+use super::parse::{parse, Ast, Node};
 use super::typed::{example, read_value};
 use crate::error::{nearest, Error};
 use crate::graph::{Graph, NodeId, Plug};
 use crate::node::{NodeType, Time};
 use crate::path::{parse_plug_path, resolve_attr, AttrLookupError};
 use crate::registry::Registry;
-use crate::spec::{AttrId, MirrorRole, NodeSpec};
+use crate::spec::{AttrId, AttrSpec, MirrorRole, NodeSpec};
 use crate::value::{AttrType, Value};
 
 /// Where rig and component files come from (the file system, or memory for
@@ -30,6 +30,35 @@ use crate::value::{AttrType, Value};
 pub trait RigSource {
     /// The text of the file at `path`.
     fn read(&self, path: &Path) -> std::io::Result<String>;
+
+    /// Loads the value of an attribute of type `ty` written in a rig file as a file
+    /// reference, `File("body.obj")`; `path` is already resolved against the directory of
+    /// the rig file that wrote it. The core knows no geometry format, so the default
+    /// refuses; the `sinew` facade's source (`sinew::io::mesh_file::MeshFileSource`)
+    /// loads Wavefront OBJ and glTF meshes.
+    fn load_value(&self, path: &Path, ty: AttrType) -> Result<Value, String> {
+        Err(format!(
+            "cannot load a {ty} from {}: mesh files need the sinew facade (load the rig with sinew::io::mesh_file::load_rig)",
+            path.display()
+        ))
+    }
+}
+
+/// The path of a `File("path")` value, if `n` is one.
+fn file_reference(n: &Node) -> Option<&str> {
+    match &n.kind {
+        Ast::Group {
+            name: Some(name),
+            items,
+        } if name == "File" => match items.as_slice() {
+            [item] if item.key.is_none() => match &item.value.kind {
+                Ast::Str { value, .. } => Some(value.as_str()),
+                _ => None,
+            },
+            _ => None,
+        },
+        _ => None,
+    }
 }
 
 /// Reads files from disk (regular files up to 64 MiB).
@@ -150,6 +179,40 @@ fn map_node_part(path: &str, f: &dyn Fn(&str) -> String) -> String {
 }
 
 impl<'a> Expander<'a> {
+    /// Reads an attribute value: a `File("path")` reference on a heavy attribute goes to
+    /// [`RigSource::load_value`] (path relative to the rig file's directory), anything else
+    /// to [`read_value`].
+    fn read_attr_value(
+        &self,
+        n: &Node,
+        ty: AttrType,
+        attr: Option<&AttrSpec>,
+        what: &str,
+    ) -> Result<Value, Diagnostic> {
+        let Some(rel) = file_reference(n) else {
+            return read_value(n, ty, attr, what);
+        };
+        if !ty.is_heavy() || ty == AttrType::Object || ty == AttrType::String {
+            return Err(Diagnostic::new(
+                n.span.clone(),
+                format!("{what} is a {ty}; File(..) is for meshes and other heavy data"),
+            )
+            .hint(format!("write the value inline, e.g. {}", example(ty, attr))));
+        }
+        let dir = n.span.file.parent().unwrap_or(Path::new(""));
+        let path = normalize(&dir.join(rel));
+        match self.source.load_value(&path, ty) {
+            Ok(v) if v.attr_type() == ty => Ok(v),
+            Ok(v) => Err(Diagnostic::new(
+                n.span.clone(),
+                format!("{what}: {} holds a {}, not a {ty}", path.display(), v.attr_type()),
+            )
+            .hint("reference a file of the attribute's type")),
+            Err(e) => Err(Diagnostic::new(n.span.clone(), format!("{what}: {e}"))
+                .hint("check the file path (relative to the rig file)")),
+        }
+    }
+
     fn load_file(&mut self, path: &Path, at: &Span) -> Option<Rc<FileDoc>> {
         let key = normalize(path);
         if let Some(c) = self.files.get(&key) {
@@ -291,14 +354,14 @@ impl<'a> Expander<'a> {
                 }
             };
             for (i, n) in entries {
-                match read_value(n, a.ty, Some(&a), &what) {
+                match self.read_attr_value(n, a.ty, Some(&a), &what) {
                     Ok(v) => Self::put(node, attr, Some(i), None, v, n.span.clone()),
                     Err(d) => self.diags.push(d),
                 }
             }
             return;
         }
-        match read_value(value, a.ty, Some(&a), &what) {
+        match self.read_attr_value(value, a.ty, Some(&a), &what) {
             Ok(v) => Self::put(node, attr, None, None, v, value.span.clone()),
             Err(d) => self.diags.push(d),
         }
@@ -394,7 +457,7 @@ impl<'a> Expander<'a> {
                 continue;
             }
             let ty = if comp.is_some() { AttrType::Float } else { a.ty };
-            match read_value(&s.value, ty, Some(a), &format!("`{}`", s.path)) {
+            match self.read_attr_value(&s.value, ty, Some(a), &format!("`{}`", s.path)) {
                 Ok(v) => Self::put(node, attr, parts.index, comp, v, s.value.span.clone()),
                 Err(d) => self.diags.push(d),
             }

@@ -4,6 +4,7 @@
 pub mod curve;
 mod key;
 pub mod nodes;
+pub mod quat_curve;
 mod segment;
 pub mod set_keys;
 mod tangents;
@@ -13,7 +14,8 @@ mod tests_nodes;
 pub use nodes::{AnimCurveNode, CurveCache, CurveKind, TANGENT_NAMES};
 pub use set_keys::set_keys;
 
-/// Registers this family's node types (`animCurveTL/TA/TU/UL/UA/UU`).
+/// Registers this family's node types (`animCurveTL/TA/TU/UL/UA/UU`, `quatCurve`, `vectorCurve`).
 pub fn register(registry: &mut sinew_core::Registry) -> Result<(), sinew_core::SpecError> {
-    nodes::register(registry)
+    nodes::register(registry)?;
+    quat_curve::register(registry)
 }

@@ -70,7 +70,12 @@ pub struct BlendShape {
     cache: Output<ObjectRef>,
 }
 
-fn sparse(what: &str, i: u32, idx: Option<Arc<Vec<i64>>>, d: Option<Arc<Vec<DVec3>>>) -> Result<SparseDelta, ComputeError> {
+fn sparse(
+    what: &str,
+    i: u32,
+    idx: Option<Arc<Vec<i64>>>,
+    d: Option<Arc<Vec<DVec3>>>,
+) -> Result<SparseDelta, ComputeError> {
     let (idx, d) = (idx.unwrap_or_default(), d.unwrap_or_default());
     if idx.len() != d.len() {
         return Err(ComputeError::new(format!(
@@ -82,7 +87,9 @@ fn sparse(what: &str, i: u32, idx: Option<Arc<Vec<i64>>>, d: Option<Arc<Vec<DVec
     let mut out = SparseDelta::default();
     for (&v, &x) in idx.iter().zip(d.iter()) {
         let v = u32::try_from(v).map_err(|_| {
-            ComputeError::new(format!("blendShape: {what}Indices[{i}] has vertex index {v}; indices must be >= 0"))
+            ComputeError::new(format!(
+                "blendShape: {what}Indices[{i}] has vertex index {v}; indices must be >= 0"
+            ))
         })?;
         out.indices.push(v);
         out.deltas.push(x.as_vec3());
@@ -150,7 +157,7 @@ impl BlendShape {
         })
     }
 
-    fn target<'a>(targets: &'a mut Vec<Target>, i: u32) -> Result<&'a mut Target, ComputeError> {
+    fn target(targets: &mut Vec<Target>, i: u32) -> Result<&mut Target, ComputeError> {
         if i >= MAX_TARGETS {
             return Err(ComputeError::new(format!(
                 "blendShape: target index {i} is too large; use indices below {MAX_TARGETS}"
@@ -183,13 +190,24 @@ impl BlendShape {
             }
         }
         for k in 0..ctx.multi_len(self.ib_target) {
-            let Some((j, t)) = ctx.multi_at(self.ib_target, k) else { continue };
+            let Some((j, t)) = ctx.multi_at(self.ib_target, k) else {
+                continue;
+            };
             let t = u32::try_from(t).map_err(|_| {
-                ComputeError::new(format!("blendShape: inbetweenTarget[{j}] is {t}; give a target index >= 0"))
+                ComputeError::new(format!(
+                    "blendShape: inbetweenTarget[{j}] is {t}; give a target index >= 0"
+                ))
             })?;
             let w = ctx.get_at(self.ib_weight, j).unwrap_or(0.5) as f32;
-            let delta = sparse("inbetween", j, ctx.get_at(self.ib_indices, j), ctx.get_at(self.ib_deltas, j))?;
-            Self::target(&mut targets, t)?.in_betweens.push(InBetween { weight: w, delta });
+            let delta = sparse(
+                "inbetween",
+                j,
+                ctx.get_at(self.ib_indices, j),
+                ctx.get_at(self.ib_deltas, j),
+            )?;
+            Self::target(&mut targets, t)?
+                .in_betweens
+                .push(InBetween { weight: w, delta });
         }
         ctx.set(self.cache, ObjectRef::new(BlendShapeCache { targets }));
         Ok(())
@@ -199,7 +217,9 @@ impl BlendShape {
         let mesh = ctx.get(self.input);
         let cache_ref = ctx.get_output(self.cache);
         let Some(cache) = cache_ref.downcast::<BlendShapeCache>() else {
-            return Err(ComputeError::new("blendShape: targetCache is missing; fix the target errors first"));
+            return Err(ComputeError::new(
+                "blendShape: targetCache is missing; fix the target errors first",
+            ));
         };
         let envelope = Some(ctx.get(self.envelope)).filter(|e| e.is_finite()).unwrap_or(0.0) as f32;
         let n_targets = cache.targets.len();

@@ -103,7 +103,12 @@ impl PolyPrimitive {
                 s.doc("a UV sphere centred at the origin, poles on ±Y");
                 a = distance(&mut s, "radius", 1.0, "sphere radius");
                 n1 = Some(int(&mut s, "subdivisionsAxis", 20, "segments around Y (at least 3)"));
-                n2 = Some(int(&mut s, "subdivisionsHeight", 20, "bands from pole to pole (at least 2)"));
+                n2 = Some(int(
+                    &mut s,
+                    "subdivisionsHeight",
+                    20,
+                    "bands from pole to pole (at least 2)",
+                ));
             }
             Kind::Cylinder => {
                 s.doc("a capped cylinder along Y centred at the origin");
@@ -115,16 +120,31 @@ impl PolyPrimitive {
             Kind::Plane => {
                 s.doc("a flat grid in the XZ plane facing +Y");
                 a = distance(&mut s, "width", 1.0, "size along X");
-                b = Some(distance(&mut s, "height", 1.0, "size along Z (Maya's polyPlane height)"));
+                b = Some(distance(
+                    &mut s,
+                    "height",
+                    1.0,
+                    "size along Z (Maya's polyPlane height)",
+                ));
                 n1 = Some(int(&mut s, "subdivisionsWidth", 10, "cells along X (at least 1)"));
                 n2 = Some(int(&mut s, "subdivisionsHeight", 10, "cells along Z (at least 1)"));
             }
             Kind::Capsule => {
                 s.doc("a capsule along Y: a cylinder closed by two hemispheres");
                 a = distance(&mut s, "radius", 1.0, "radius of the cylinder and the hemispheres");
-                b = Some(distance(&mut s, "height", 4.0, "total height, tips included (at least 2 · radius)"));
+                b = Some(distance(
+                    &mut s,
+                    "height",
+                    4.0,
+                    "total height, tips included (at least 2 · radius)",
+                ));
                 n1 = Some(int(&mut s, "subdivisionsAxis", 20, "segments around Y (at least 3)"));
-                n2 = Some(int(&mut s, "subdivisionsHeight", 4, "bands of the straight part (at least 1)"));
+                n2 = Some(int(
+                    &mut s,
+                    "subdivisionsHeight",
+                    4,
+                    "bands of the straight part (at least 1)",
+                ));
                 n3 = Some(int(&mut s, "subdivisionsCaps", 6, "bands per hemisphere (at least 1)"));
             }
         }
@@ -187,7 +207,8 @@ pub fn transform_mesh_into(src: &Mesh, m: &DMat4, dst: &mut Mesh) {
     let m = m.as_mat4();
     let cof = cofactor(Mat3A::from_mat4(m));
     dst.positions.clear();
-    dst.positions.extend(src.positions.iter().map(|&p| m.transform_point3(p)));
+    dst.positions
+        .extend(src.positions.iter().map(|&p| m.transform_point3(p)));
     dst.normals.clear();
     dst.normals.extend(
         src.normals
@@ -233,7 +254,10 @@ impl MeshNode {
         let out_mesh = s.output("outMesh", Arc::new(Mesh::default()));
         let world_mesh = s.output("worldMesh", Arc::new(Mesh::default()));
         s.attr_doc(in_mesh, "the geometry (object space)")
-            .attr_doc(world_matrix, "object-to-world matrix, e.g. the parent transform's worldMatrix")
+            .attr_doc(
+                world_matrix,
+                "object-to-world matrix, e.g. the parent transform's worldMatrix",
+            )
             .attr_doc(out_mesh, "inMesh, validated and shared")
             .attr_doc(world_mesh, "inMesh in world space");
         s.affects(&[in_mesh.id()], &[out_mesh.id()]);
@@ -255,7 +279,8 @@ impl NodeType for MeshNode {
 
     fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
         let mesh = ctx.get(self.in_mesh);
-        mesh.validate().map_err(|e| ComputeError::new(format!("mesh.inMesh: {e}")))?;
+        mesh.validate()
+            .map_err(|e| ComputeError::new(format!("mesh.inMesh: {e}")))?;
         if ctx.wants(self.out_mesh) {
             ctx.set(self.out_mesh, mesh);
         } else if ctx.wants(self.world_mesh) {

@@ -17,16 +17,56 @@
 //! | [`closest_point`] | closest point on a mesh, with a reusable, refittable index |
 //! | [`surface`] | point, normal and tangent at a UV coordinate (the follicle's query) |
 //! | [`pose_reader`] | cone-falloff pose reader math |
+//!
+//! The node plugins built on them:
+//!
+//! | module | node types / helpers |
+//! | --- | --- |
+//! | [`mesh_nodes`] | `polyCube`, `polySphere`, `polyCylinder`, `polyPlane`, `polyCapsule`, `mesh` |
+//! | [`skin_cluster`] | `skinCluster` (palette output for engines, precomputed weights) |
+//! | [`blend_shape_node`] | `blendShape` (sparse targets, in-betweens, weight maps) |
+//! | [`pose_reader_node`] | `poseReader` (drives correctives) |
+//! | [`follicle`] | `follicle`, `closestPointOnMesh` |
+//! | [`bind`] | `bind_skin`, `smooth_bind`, `create_closest_follicle` |
+//!
+//! Deformer order: `mesh`/`polyX` → `blendShape` (pre-deformation) → `skinCluster` →
+//! `follicle`, each connected `outputGeometry` → `inputGeometry` (the follicle's
+//! `inputMesh`). Each deformer precomputes what does not change per frame (parsed targets,
+//! pruned weights, spatial indices) in a separate compute group.
 
+pub mod bind;
 pub mod blend_shape;
+pub mod blend_shape_node;
 pub mod bvh;
 pub mod closest_point;
 pub mod dual_quat;
+pub mod follicle;
+pub mod mesh_nodes;
 pub mod pose_reader;
+pub mod pose_reader_node;
 pub mod primitives;
+pub mod skin_cluster;
 pub mod skinning;
 pub mod surface;
 pub mod weights;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_chain;
+#[cfg(test)]
+mod tests_nodes;
+
+use sinew_core::{Registry, SpecError};
+
+/// Registers the deformer node types: mesh sources, `skinCluster`, `blendShape`,
+/// `poseReader`, `follicle` and `closestPointOnMesh`.
+pub fn register(registry: &mut Registry) -> Result<(), SpecError> {
+    mesh_nodes::register(registry)?;
+    registry.register(skin_cluster::SkinCluster::new()?)?;
+    registry.register(blend_shape_node::BlendShape::new()?)?;
+    registry.register(pose_reader_node::PoseReader::new()?)?;
+    registry.register(follicle::Follicle::new()?)?;
+    registry.register(follicle::ClosestPointOnMesh::new()?)?;
+    Ok(())
+}

@@ -137,20 +137,34 @@ impl SkinCluster {
         let output = s.output("outputGeometry", Arc::new(Mesh::default()));
         let palette = s.output("palette", Arc::new(Vec::<DMat4>::new()));
         let cache = s.output("skinCache", ObjectRef::default());
-        s.attr_doc(input, "rest mesh (pre-deformation: connect a blendShape's outputGeometry)")
-            .attr_doc(matrix, "joint world matrices")
-            .attr_doc(bind_pre, "inverse joint world matrices at bind time")
-            .attr_doc(weight_list, "sparse skin weights; joint index i means matrix[i]")
-            .attr_doc(max_influences, "influences kept per vertex (0 = unlimited); renormalizes")
-            .attr_doc(normalize, "none: weights as given; interactive/post: each vertex sums to 1")
-            .attr_doc(blend_weights, "per-vertex dual quaternion amount for weightBlended")
-            .attr_doc(envelope, "0 = rest mesh, 1 = fully skinned")
-            .attr_doc(deform_normals, "skin normals too (else copy them)")
-            .attr_doc(output, "the skinned mesh")
-            .attr_doc(palette, "matrix[i] · bindPreMatrix[i], for engines")
-            .attr_doc(cache, "pruned and normalized weights (SkinCache)");
+        s.attr_doc(
+            input,
+            "rest mesh (pre-deformation: connect a blendShape's outputGeometry)",
+        )
+        .attr_doc(matrix, "joint world matrices")
+        .attr_doc(bind_pre, "inverse joint world matrices at bind time")
+        .attr_doc(weight_list, "sparse skin weights; joint index i means matrix[i]")
+        .attr_doc(
+            max_influences,
+            "influences kept per vertex (0 = unlimited); renormalizes",
+        )
+        .attr_doc(
+            normalize,
+            "none: weights as given; interactive/post: each vertex sums to 1",
+        )
+        .attr_doc(blend_weights, "per-vertex dual quaternion amount for weightBlended")
+        .attr_doc(envelope, "0 = rest mesh, 1 = fully skinned")
+        .attr_doc(deform_normals, "skin normals too (else copy them)")
+        .attr_doc(output, "the skinned mesh")
+        .attr_doc(palette, "matrix[i] · bindPreMatrix[i], for engines")
+        .attr_doc(cache, "pruned and normalized weights (SkinCache)");
         s.affects(
-            &[weight_list.id(), max_influences.id(), normalize.id(), blend_weights.id()],
+            &[
+                weight_list.id(),
+                max_influences.id(),
+                normalize.id(),
+                blend_weights.id(),
+            ],
             &[cache.id()],
         );
         s.affects(&[matrix.id(), bind_pre.id()], &[palette.id()]);
@@ -238,7 +252,9 @@ impl SkinCluster {
         let mesh = ctx.get(self.input);
         let cache_ref = ctx.get_output(self.cache);
         let Some(cache) = cache_ref.downcast::<SkinCache>() else {
-            return Err(ComputeError::new("skinCluster: skinCache is missing; fix the weightList error first"));
+            return Err(ComputeError::new(
+                "skinCluster: skinCache is missing; fix the weightList error first",
+            ));
         };
         let palette = ctx.get_output(self.palette);
         let envelope = Some(ctx.get(self.envelope)).filter(|e| e.is_finite()).unwrap_or(0.0) as f32;

@@ -13,17 +13,28 @@
 //! | [`extract`] | public API: `skeletonize`, parameters, errors |
 //! | [`heat_weights`] | bone-heat weights with faer, inverse-distance fallback |
 //! | [`shapes`] | procedural test shapes (capsule, plus, star, humanoid) |
+//! | [`node`] | the `skeletonize` node plugin |
 
 pub mod chordal_axis;
 pub mod depth;
 pub mod extract;
 pub mod heat_weights;
 pub mod joints;
+pub mod node;
 pub mod outline;
 pub mod raster;
 pub mod shapes;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_node;
 
 pub use extract::{skeletonize, skeletonize_detailed, Skeleton, SkeletonDetails, SkeletonizeError, SkeletonizeParams};
 pub use heat_weights::{bone_heat_weights, bone_heat_weights_with_report, Laplacian, WeightParams, WeightReport};
+
+pub use node::{SkeletonData, SkeletonizeNode};
+
+/// Registers the `skeletonize` node type.
+pub fn register(registry: &mut sinew_core::Registry) -> Result<(), sinew_core::SpecError> {
+    registry.register(SkeletonizeNode::new()?)
+}

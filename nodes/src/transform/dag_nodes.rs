@@ -145,9 +145,17 @@ impl Common {
             parent_inverse_matrix,
             "inverse of parentMatrix * offsetParentMatrix (identity when singular); ignores the local channels",
         );
-        s.affects(&local, &[matrix.id(), inverse_matrix.id()]);
-        local.extend([parent_matrix.id(), offset_parent_matrix.id()]);
-        s.affects(&local, &[world_matrix.id(), world_inverse_matrix.id()]);
+        // Groups: local matrix (from the channels); its inverse (from the
+        // matrix output); world (from the matrix output and the parent); its
+        // inverse; parent inverse. Each group computes one thing once, and a
+        // compiled program can drop groups whose outputs nobody reads.
+        s.affects(&local, &[matrix.id()]);
+        s.affects(&[matrix.id()], &[inverse_matrix.id()]);
+        s.affects(
+            &[matrix.id(), parent_matrix.id(), offset_parent_matrix.id()],
+            &[world_matrix.id()],
+        );
+        s.affects(&[world_matrix.id()], &[world_inverse_matrix.id()]);
         s.affects(
             &[parent_matrix.id(), offset_parent_matrix.id()],
             &[parent_inverse_matrix.id()],
@@ -176,19 +184,21 @@ impl Common {
             let pm = ctx.get(self.parent_matrix) * ctx.get(self.offset_parent_matrix);
             ctx.set(self.parent_inverse_matrix, inverse_or_identity(pm));
         }
-        let wants_local = ctx.wants(self.matrix);
-        let wants_world = ctx.wants(self.world_matrix);
-        if !(wants_local || wants_world) {
-            return;
-        }
-        let m = local(ctx);
-        if wants_local {
+        if ctx.wants(self.matrix) {
+            let m = local(ctx);
             ctx.set(self.matrix, m);
+        }
+        if ctx.wants(self.inverse_matrix) {
+            let m = ctx.get_output(self.matrix);
             ctx.set(self.inverse_matrix, inverse_or_identity(m));
         }
-        if wants_world {
+        if ctx.wants(self.world_matrix) {
+            let m = ctx.get_output(self.matrix);
             let w = ctx.get(self.parent_matrix) * ctx.get(self.offset_parent_matrix) * m;
             ctx.set(self.world_matrix, w);
+        }
+        if ctx.wants(self.world_inverse_matrix) {
+            let w = ctx.get_output(self.world_matrix);
             ctx.set(self.world_inverse_matrix, inverse_or_identity(w));
         }
     }

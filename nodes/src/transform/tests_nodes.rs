@@ -370,8 +370,12 @@ fn specs_declare_groups_and_dag() {
         assert!(!inputs("matrix").contains(&id("parentMatrix")));
         assert!(!inputs("matrix").contains(&id("offsetParentMatrix")));
         assert!(inputs("worldMatrix").contains(&id("parentMatrix")));
-        assert!(inputs("worldMatrix").contains(&id("translate")));
+        // worldMatrix reads the local channels through the matrix output.
+        assert!(inputs("worldMatrix").contains(&id("matrix")));
+        assert!(inputs("matrix").contains(&id("translate")));
         assert!(!inputs("worldMatrix").contains(&id("visibility")));
+        assert_eq!(inputs("inverseMatrix"), &vec![id("matrix")]);
+        assert_eq!(inputs("worldInverseMatrix"), &vec![id("worldMatrix")]);
         let dag = s.dag.as_ref().unwrap();
         assert_eq!(
             (dag.parent_matrix, dag.world_matrix),

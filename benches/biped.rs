@@ -1,0 +1,72 @@
+//! The whole example biped (graphs/examples/biped/biped.ron) per frame: compiled (the per-frame
+//! schedule, and every step) against lazy evaluation (set the time, pull every joint's world
+//! matrix). Criterion's `elem/s` is nodes per second (divide 1e9 by it for ns per node).
+//!
+//! Run: `cargo bench --bench biped`.
+
+use std::hint::black_box;
+use std::path::Path;
+use std::sync::Arc;
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use sinew::prelude::*;
+
+fn biped(c: &mut Criterion) {
+    let registry = default_registry().expect("registry");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs/examples/biped/biped.ron");
+    let rig = sinew_core::load_rig(&path, &registry).unwrap_or_else(|d| panic!("{}", d.render()));
+    let mut graph = rig.graph;
+    let joints: Vec<String> = graph
+        .nodes()
+        .into_iter()
+        .filter(|&id| graph.node_type(id) == Some("joint"))
+        .map(|id| format!("{}.worldMatrix", graph.node_name(id).expect("name")))
+        .collect();
+    let nodes = graph.node_count() as u64;
+    let program = Arc::new(Program::compile(&graph, &CompileOptions::default()).expect("compile"));
+    eprintln!(
+        "biped: {nodes} nodes, {} joints, {} steps, {} run per frame",
+        joints.len(),
+        program.step_count(),
+        program.frame_step_count()
+    );
+    let handles: Vec<PlugHandle> = joints.iter().map(|j| program.handle(j).expect("handle")).collect();
+
+    let mut g = c.benchmark_group("biped_frame");
+    g.throughput(Throughput::Elements(nodes));
+    let mut inst = Instance::new(program.clone());
+    g.bench_function("compiled", |b| {
+        let mut f = 0u64;
+        b.iter(|| {
+            f += 1;
+            inst.evaluate(Time::new((f % 48 + 1) as f64, 24.0)).expect("eval");
+            for h in &handles {
+                black_box(inst.get(h));
+            }
+        })
+    });
+    g.bench_function("compiled_full", |b| {
+        let mut f = 0u64;
+        b.iter(|| {
+            f += 1;
+            inst.evaluate_full(Time::new((f % 48 + 1) as f64, 24.0)).expect("eval");
+            for h in &handles {
+                black_box(inst.get(h));
+            }
+        })
+    });
+    g.bench_function("lazy", |b| {
+        let mut f = 0u64;
+        b.iter(|| {
+            f += 1;
+            graph.set_time(Time::new((f % 48 + 1) as f64, 24.0));
+            for j in &joints {
+                black_box(graph.get_path(j).expect("get"));
+            }
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, biped);
+criterion_main!(benches);

@@ -1,0 +1,233 @@
+//! Skinning throughput: 100,000 vertices, 4 influences each, 64 joints. In one run:
+//! - `baseline_copy_inputs`: copies the bytes LBS reads for positions (positions + CSR
+//!   weights) into output buffers: the memory-bandwidth floor;
+//! - the raw kernels (`lbs_*`, `dqs_*`, serial and parallel, with and without normals);
+//! - `node_skincluster_*_compiled`: a `skinCluster` node in a compiled program, one joint
+//!   matrix set per frame (a dynamic input), so each iteration runs the palette and the
+//!   deformation steps exactly as a game loop would.
+//!
+//! Criterion reports elements/s (vertices/s); divide 1e9 by it for ns per vertex. Before the
+//! benchmarks, the node loop is also run with a counting allocator and the allocations per
+//! compiled frame are printed.
+//!
+//! Run briefly: `cargo bench -p sinew-nodes --no-default-features --bench skinning --
+//! --warm-up-time 1 --measurement-time 3`.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Arc;
+
+use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
+use glam::{DMat4, DVec3, Mat4, Quat, Vec3};
+use sinew_core::{CompileOptions, Graph, Instance, Mesh, Program, Time, Value, Weights};
+use sinew_nodes::deform::dual_quat::DqPalette;
+use sinew_nodes::deform::skinning::{skin, skin_parallel, SkinInput, SkinMethod, SkinOutput};
+
+struct Counting;
+static ALLOCS: AtomicUsize = AtomicUsize::new(0);
+
+// SAFETY: forwards every call to the system allocator unchanged; only counts.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
+        ALLOCS.fetch_add(1, Ordering::Relaxed);
+        System.alloc(l)
+    }
+    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
+        System.dealloc(p, l)
+    }
+    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
+        ALLOCS.fetch_add(1, Ordering::Relaxed);
+        System.realloc(p, l, n)
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+const VERTICES: usize = 100_000;
+const JOINTS: usize = 64;
+
+struct Rig {
+    positions: Vec<Vec3>,
+    normals: Vec<Vec3>,
+    weights: Weights,
+    palette: Vec<Mat4>,
+}
+
+fn rig() -> Rig {
+    let mut s = 0x5eed_u64;
+    let mut rnd = move || {
+        s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        ((s >> 40) as f32) / (1u64 << 24) as f32
+    };
+    let mut positions = Vec::with_capacity(VERTICES);
+    let mut normals = Vec::with_capacity(VERTICES);
+    let mut lists = Vec::with_capacity(VERTICES);
+    for v in 0..VERTICES {
+        positions.push(Vec3::new(rnd(), rnd(), rnd()) * 2.0 - 1.0);
+        normals.push((Vec3::new(rnd(), rnd(), rnd()) - 0.5).normalize_or(Vec3::Y));
+        // Neighbouring joints, as on a real limb: vertex v is near joint v·64/N.
+        let j0 = (v * JOINTS / VERTICES) as u32;
+        let row: Vec<(u32, f32)> = (0..4u32).map(|k| ((j0 + k) % JOINTS as u32, 0.1 + rnd())).collect();
+        let sum: f32 = row.iter().map(|r| r.1).sum();
+        lists.push(row.into_iter().map(|(j, w)| (j, w / sum)).collect::<Vec<_>>());
+    }
+    let palette = (0..JOINTS)
+        .map(|_| {
+            let q = Quat::from_euler(glam::EulerRot::XYZ, rnd(), rnd(), rnd());
+            Mat4::from_rotation_translation(q, Vec3::new(rnd(), rnd(), rnd()))
+        })
+        .collect();
+    Rig {
+        positions,
+        normals,
+        weights: Weights::from_lists(lists),
+        palette,
+    }
+}
+
+/// A graph `mesh → skinCluster` with the rig's weights and joint matrices (bindPreMatrix
+/// identity, so the palette is the rig's palette), compiled with every `matrix[i]` dynamic.
+fn node_instance(r: &Rig, method: i64) -> (Instance, sinew_core::PlugHandle) {
+    let mut g = Graph::new(sinew_nodes::registry().unwrap());
+    g.add_node("mesh", "body").unwrap();
+    let mesh = Mesh {
+        positions: r.positions.clone(),
+        normals: r.normals.clone(),
+        ..Default::default()
+    };
+    g.set_path("body.inMesh", Value::Mesh(Arc::new(mesh))).unwrap();
+    g.add_node("skinCluster", "skin").unwrap();
+    g.connect_path("body.outMesh", "skin.inputGeometry").unwrap();
+    g.set_path("skin.weightList", Value::Weights(Arc::new(r.weights.clone())))
+        .unwrap();
+    g.set_path("skin.skinningMethod", Value::Enum(method)).unwrap();
+    let mut dynamic = Vec::new();
+    for (i, m) in r.palette.iter().enumerate() {
+        let path = format!("skin.matrix[{i}]");
+        g.set_path(&path, Value::Matrix(m.as_dmat4())).unwrap();
+        g.set_path(&format!("skin.bindPreMatrix[{i}]"), Value::Matrix(DMat4::IDENTITY))
+            .unwrap();
+        dynamic.push(g.plug(&path).unwrap());
+    }
+    let program = Arc::new(
+        Program::compile(
+            &g,
+            &CompileOptions {
+                dynamic_inputs: dynamic,
+                ..Default::default()
+            },
+        )
+        .unwrap(),
+    );
+    let h = program.handle("skin.matrix[0]").unwrap();
+    let mut inst = Instance::new(program);
+    inst.evaluate(Time::default()).unwrap();
+    (inst, h)
+}
+
+fn frame(inst: &mut Instance, h: &sinew_core::PlugHandle, k: u64, base: DMat4) {
+    let m = DMat4::from_translation(DVec3::new((k % 7) as f64 * 0.01, 0.0, 0.0)) * base;
+    inst.set(h, Value::Matrix(m)).unwrap();
+    inst.evaluate(Time::new(k as f64, 24.0)).unwrap();
+}
+
+fn report_allocations(r: &Rig) {
+    for (name, method) in [("classicLinear", 0), ("dualQuaternion", 1)] {
+        let (mut inst, h) = node_instance(r, method);
+        let base = r.palette[0].as_dmat4();
+        for k in 0..3 {
+            frame(&mut inst, &h, k, base);
+        }
+        let before = ALLOCS.load(Ordering::Relaxed);
+        let frames = 20;
+        for k in 0..frames {
+            frame(&mut inst, &h, k + 3, base);
+        }
+        let n = ALLOCS.load(Ordering::Relaxed) - before;
+        println!("skinCluster {name}, compiled: {n} allocations in {frames} frames");
+    }
+}
+
+fn bench(c: &mut Criterion) {
+    let r = rig();
+    report_allocations(&r);
+    let mut g = c.benchmark_group("skinning_100k_4inf_64j");
+    g.throughput(Throughput::Elements(VERTICES as u64));
+    let mut out_p = vec![Vec3::ZERO; VERTICES];
+    let mut out_n = vec![Vec3::ZERO; VERTICES];
+    let mut scratch = DqPalette::new();
+
+    // Baseline: copy every input byte LBS reads for positions (positions + offsets + joints
+    // + weights) into output buffers.
+    let mut cp_off = vec![0u32; r.weights.offsets.len()];
+    let mut cp_j = vec![0u32; r.weights.joints.len()];
+    let mut cp_w = vec![0f32; r.weights.weights.len()];
+    g.bench_function("baseline_copy_inputs", |b| {
+        b.iter(|| {
+            out_p.copy_from_slice(black_box(&r.positions));
+            cp_off.copy_from_slice(black_box(&r.weights.offsets));
+            cp_j.copy_from_slice(black_box(&r.weights.joints));
+            cp_w.copy_from_slice(black_box(&r.weights.weights));
+            black_box((&out_p, &cp_off, &cp_j, &cp_w));
+        })
+    });
+
+    let with_n = SkinInput {
+        positions: &r.positions,
+        normals: &r.normals,
+        weights: &r.weights,
+        palette: &r.palette,
+    };
+    let no_n = SkinInput { normals: &[], ..with_n };
+    let cases: [(&str, SkinInput, SkinMethod, bool, bool); 6] = [
+        ("lbs_positions", no_n, SkinMethod::Linear, false, false),
+        ("lbs_positions_normals", with_n, SkinMethod::Linear, true, false),
+        ("dqs_positions", no_n, SkinMethod::DualQuaternion, false, false),
+        ("dqs_positions_normals", with_n, SkinMethod::DualQuaternion, true, false),
+        ("lbs_positions_normals_parallel", with_n, SkinMethod::Linear, true, true),
+        (
+            "dqs_positions_normals_parallel",
+            with_n,
+            SkinMethod::DualQuaternion,
+            true,
+            true,
+        ),
+    ];
+    for (name, input, method, normals, parallel) in cases {
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                let n: &mut [Vec3] = if normals { &mut out_n } else { &mut [] };
+                let out = SkinOutput {
+                    positions: &mut out_p,
+                    normals: n,
+                };
+                if parallel {
+                    skin_parallel(black_box(&input), method, &mut scratch, out).unwrap();
+                } else {
+                    skin(black_box(&input), method, &mut scratch, out).unwrap();
+                }
+                black_box(&out_p);
+            })
+        });
+    }
+
+    for (name, method) in [
+        ("node_skincluster_lbs_compiled", 0),
+        ("node_skincluster_dqs_compiled", 1),
+    ] {
+        let (mut inst, h) = node_instance(&r, method);
+        let base = r.palette[0].as_dmat4();
+        let mut k = 0u64;
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                k += 1;
+                frame(&mut inst, &h, k, base);
+            })
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

@@ -1,0 +1,72 @@
+//! `sinew import`: glTF (`.gltf`, `.glb`) or BVH files to an editable rig (`RIG.ron`
+//! plus its data sidecar `RIG.data.ron`).
+
+use std::path::Path;
+use std::sync::Arc;
+
+use sinew_core::Registry;
+
+use crate::io::import_bvh::{import_bvh, BvhImportOptions};
+use crate::io::import_gltf::{import_scene, GltfImportOptions};
+use crate::io::rig_builder::RigBuilder;
+use crate::io::{parse_bvh, read_gltf};
+
+/// Runs `sinew import`; returns the summary to print.
+pub fn import(
+    model: &Path,
+    out: &Path,
+    animation: Option<&str>,
+    fps: Option<f64>,
+    registry: &Arc<Registry>,
+) -> Result<String, String> {
+    let ext = model
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .unwrap_or_default();
+    let stem = out.file_stem().and_then(|s| s.to_str()).unwrap_or("rig").to_string();
+    let (rig, warnings): (RigBuilder, Vec<String>) = match ext.as_str() {
+        "gltf" | "glb" => {
+            let scene = read_gltf(model).map_err(|e| format!("{}: {e}", model.display()))?;
+            let opts = GltfImportOptions {
+                animation: animation.map(str::to_string),
+                fps: fps.unwrap_or(30.0),
+                name: stem,
+            };
+            let imp = import_scene(&scene, &opts).map_err(|e| format!("{}: {e}", model.display()))?;
+            (imp.rig, imp.warnings)
+        }
+        "bvh" => {
+            if animation.is_some() || fps.is_some() {
+                return Err(
+                    "--animation and --fps apply to glTF files; a BVH has one take at its own frame rate".into(),
+                );
+            }
+            let text = std::fs::read_to_string(model).map_err(|e| format!("cannot read {}: {e}", model.display()))?;
+            let bvh = parse_bvh(&text).map_err(|e| format!("{}:{e}", model.display()))?;
+            (import_bvh(&bvh, &BvhImportOptions { name: stem })?.rig, Vec::new())
+        }
+        _ => {
+            return Err(format!(
+                "{}: unknown file type; give a .gltf, .glb or .bvh file",
+                model.display()
+            ))
+        }
+    };
+    // Check that what we write loads back before writing it.
+    rig.to_graph(registry)
+        .map_err(|e| format!("internal error: the imported rig does not build: {e}"))?;
+    let data = rig.write(registry, out)?;
+    let mut msg = format!(
+        "{}: {} nodes, {} connections -> {} (data: {})",
+        model.display(),
+        rig.nodes.len(),
+        rig.connections.len(),
+        out.display(),
+        data.display()
+    );
+    for w in warnings {
+        msg.push_str(&format!("\nwarning: {w}"));
+    }
+    Ok(msg)
+}

@@ -1,0 +1,618 @@
+//! Bake: evaluate a rig frame by frame (compiled) and build a glTF [`Scene`] with the
+//! skeleton, skinned and morphing meshes, and the animation sampled per frame.
+//!
+//! - **Skeleton**: every DAG node (a type with `parentMatrix` and `worldMatrix`, i.e.
+//!   `joint` and `transform`) becomes a glTF node under its DAG parent, parent-first. Its
+//!   local TRS per frame is the decomposition of `parentWorld⁻¹ · world` (so constraints,
+//!   IK, pivots and joint orients all bake); shear cannot be expressed in glTF TRS and is
+//!   dropped. The *rest* TRS written on the node is the pose with every connection from a
+//!   non-DAG node into a DAG node disconnected (the authored channel values: for an
+//!   imported rig, the file's rest pose); the connections are restored afterwards.
+//! - **Skins**: each `skinCluster` becomes a mesh node (a new root `<skin>_mesh`; the
+//!   skinned mesh's transform does not matter in glTF) with the base mesh (what feeds the
+//!   deformer chain: `mesh.outMesh`, a `polyX` output...), its weights, a skin whose joints
+//!   are the DAG nodes feeding `matrix[i]` and whose inverse bind matrices are
+//!   `bindPreMatrix[i]`. `matrix[0..n]` must all be connected from DAG nodes' `worldMatrix`.
+//! - **Morph targets**: a `blendShape` before the skin (or alone) gives dense position
+//!   targets and a `weights` channel sampling `weight[i]`. In-between targets and weight
+//!   maps are not representable in glTF and are reported as warnings.
+//! - **Static meshes**: a `mesh` node feeding no deformer is attached to the DAG node that
+//!   drives its `worldMatrix` (or a new root).
+//! - **Animation**: one animation "baked", LINEAR, one key per frame at
+//!   `(frame − start) / fps` seconds (the clip starts at 0). Channels that never change
+//!   (within the tolerance) are left out; with a tolerance > 0, keys that linear
+//!   interpolation (slerp for rotations, angle error in radians) reproduces within it are
+//!   removed.
+
+use std::collections::{HashMap, HashSet};
+use std::sync::Arc;
+
+use glam::{DMat4, Mat4, Quat, Vec3};
+use sinew_core::{CompileOptions, Graph, Instance, NodeId, Plug, Program, Time, Value};
+
+use super::scene::{
+    AnimPath, Animation, AnimationChannel, Interpolation, MorphTarget, Node, Primitive, Scene, SceneMesh, Skin,
+};
+
+/// Options of [`bake`].
+#[derive(Clone, Debug)]
+pub struct BakeOptions {
+    /// First frame.
+    pub start: i64,
+    /// Last frame (inclusive).
+    pub end: i64,
+    /// Frames per second.
+    pub fps: f64,
+    /// Key reduction tolerance (0 keeps every key of changing channels).
+    pub tolerance: f64,
+    /// Animation name.
+    pub name: String,
+}
+
+/// Whether node type `spec` is a DAG transform.
+fn is_dag(g: &Graph, n: NodeId) -> bool {
+    g.node_spec(n)
+        .is_some_and(|s| s.find("parentMatrix").is_some() && s.find("worldMatrix").is_some() && s.dag.is_some())
+}
+
+/// DAG nodes parent-first (roots in graph order, children depth-first).
+pub fn dag_order(g: &Graph) -> Vec<NodeId> {
+    let all: Vec<NodeId> = g.nodes().into_iter().filter(|&n| is_dag(g, n)).collect();
+    let set: HashSet<NodeId> = all.iter().copied().collect();
+    let mut order = Vec::new();
+    let mut stack: Vec<NodeId> = all
+        .iter()
+        .copied()
+        .filter(|&n| g.parent_of(n).is_none_or(|p| !set.contains(&p)))
+        .rev()
+        .collect();
+    while let Some(n) = stack.pop() {
+        order.push(n);
+        let mut kids: Vec<NodeId> = g.children_of(n).into_iter().filter(|c| set.contains(c)).collect();
+        kids.reverse();
+        stack.extend(kids);
+    }
+    order
+}
+
+fn attr_plug(g: &Graph, node: NodeId, attr: &str) -> Result<Plug, String> {
+    let name = g.node_name(node).unwrap_or("?").to_string();
+    g.plug(&format!("{name}.{attr}")).map_err(|e| e.to_string())
+}
+
+fn name(g: &Graph, n: NodeId) -> String {
+    g.node_name(n).unwrap_or("?").to_string()
+}
+
+fn matrix(v: &Value) -> DMat4 {
+    match v {
+        Value::Matrix(m) => *m,
+        _ => DMat4::IDENTITY,
+    }
+}
+
+/// Local TRS of `world` under `parent` (f32, glTF precision).
+pub fn local_trs(parent: Option<DMat4>, world: DMat4) -> (Vec3, Quat, Vec3) {
+    let local = match parent {
+        Some(p) => p.inverse() * world,
+        None => world,
+    };
+    let (s, r, t) = local.to_scale_rotation_translation();
+    let r = if r.is_finite() && r.length() > 0.0 {
+        r.normalize()
+    } else {
+        glam::DQuat::IDENTITY
+    };
+    (s.as_vec3(), r.as_quat(), t.as_vec3())
+}
+
+/// A deformer chain output to export as a primitive.
+struct GeomOut {
+    /// Base mesh.
+    base: sinew_core::Mesh,
+    skin: Option<(Vec<NodeId>, Vec<Mat4>, sinew_core::Weights)>,
+    blend: Option<(NodeId, Vec<u32>, Vec<MorphTarget>)>,
+    owner: Option<NodeId>,
+    label: String,
+}
+
+fn source(g: &Graph, node: NodeId, attr: &str) -> Result<Option<Plug>, String> {
+    Ok(g.source_of(attr_plug(g, node, attr)?))
+}
+
+fn mesh_of(g: &mut Graph, p: Plug) -> Result<sinew_core::Mesh, String> {
+    match g.get(p).map_err(|e| e.to_string())? {
+        Value::Mesh(m) => Ok((*m).clone()),
+        other => Err(format!("{} is not a mesh ({other})", g.plug_name(p))),
+    }
+}
+
+/// Base mesh and morph targets upstream of a geometry input `node.attr`.
+#[allow(clippy::type_complexity)]
+fn chain_input(
+    g: &mut Graph,
+    node: NodeId,
+    attr: &str,
+    warnings: &mut Vec<String>,
+) -> Result<
+    (
+        sinew_core::Mesh,
+        Option<(NodeId, Vec<u32>, Vec<MorphTarget>)>,
+        Option<NodeId>,
+    ),
+    String,
+> {
+    let Some(src) = source(g, node, attr)? else {
+        return Err(format!("{}.{attr} is not connected; connect a mesh", name(g, node)));
+    };
+    if g.node_type(src.node) == Some("blendShape") {
+        let bs = src.node;
+        let Some(base_plug) = source(g, bs, "inputGeometry")? else {
+            return Err(format!("{}.inputGeometry is not connected", name(g, bs)));
+        };
+        let base = mesh_of(g, base_plug)?;
+        let owner = shape_owner(g, base_plug.node)?;
+        let (targets, list) = blend_targets(g, bs, base.vertex_count(), warnings)?;
+        return Ok((base, Some((bs, list, targets)), owner));
+    }
+    let base = mesh_of(g, src)?;
+    let owner = shape_owner(g, src.node)?;
+    Ok((base, None, owner))
+}
+
+/// The DAG node driving a `mesh` node's `worldMatrix`.
+fn shape_owner(g: &Graph, shape: NodeId) -> Result<Option<NodeId>, String> {
+    if g.node_type(shape) != Some("mesh") {
+        return Ok(None);
+    }
+    Ok(source(g, shape, "worldMatrix")?
+        .map(|p| p.node)
+        .filter(|&n| is_dag(g, n)))
+}
+
+fn blend_targets(
+    g: &mut Graph,
+    bs: NodeId,
+    vc: usize,
+    warnings: &mut Vec<String>,
+) -> Result<(Vec<MorphTarget>, Vec<u32>), String> {
+    let spec = g.node_spec(bs).ok_or("stale node")?;
+    let deltas_attr = spec.find("targetDeltas").ok_or("blendShape without targetDeltas")?.0;
+    let ib_attr = spec.find("inbetweenDeltas").map(|a| a.0);
+    let wm_attr = spec.find("targetWeightMap").map(|a| a.0);
+    let list = g.elements(bs, deltas_attr);
+    if ib_attr.is_some_and(|a| !g.elements(bs, a).is_empty()) {
+        warnings.push(format!(
+            "{}: in-between targets cannot be exported to glTF; ignored",
+            name(g, bs)
+        ));
+    }
+    if wm_attr.is_some_and(|a| !g.elements(bs, a).is_empty()) {
+        warnings.push(format!("{}: target weight maps are not exported", name(g, bs)));
+    }
+    let bname = name(g, bs);
+    let mut targets = Vec::new();
+    for &t in &list {
+        let idx = g
+            .get_path(&format!("{bname}.targetIndices[{t}]"))
+            .map_err(|e| e.to_string())?;
+        let del = g
+            .get_path(&format!("{bname}.targetDeltas[{t}]"))
+            .map_err(|e| e.to_string())?;
+        let (Value::IntArray(idx), Value::Vec3Array(del)) = (idx, del) else {
+            return Err(format!("{bname}: target {t} has unexpected value types"));
+        };
+        let mut pos = vec![Vec3::ZERO; vc];
+        for (k, d) in del.iter().enumerate() {
+            let v = match idx.get(k) {
+                Some(&v) => v,
+                None if idx.is_empty() => k as i64,
+                None => return Err(format!("{bname}: target {t} has more deltas than indices")),
+            };
+            let slot = usize::try_from(v)
+                .ok()
+                .and_then(|v| pos.get_mut(v))
+                .ok_or_else(|| format!("{bname}: target {t} moves vertex {v} but the mesh has {vc}"))?;
+            *slot += d.as_vec3();
+        }
+        targets.push(MorphTarget {
+            positions: pos,
+            normals: Vec::new(),
+        });
+    }
+    Ok((targets, list))
+}
+
+/// Evaluates `graph` over the frames and builds the baked scene (see the module docs).
+pub fn bake(graph: &mut Graph, opts: &BakeOptions) -> Result<(Scene, Vec<String>), String> {
+    if opts.end < opts.start {
+        return Err(format!("empty frame range {}..={}", opts.start, opts.end));
+    }
+    if !(opts.fps.is_finite() && opts.fps > 0.0) {
+        return Err(format!("fps {} must be a positive number", opts.fps));
+    }
+    let mut warnings = Vec::new();
+    let dag = dag_order(graph);
+    let index: HashMap<NodeId, usize> = dag.iter().enumerate().map(|(i, &n)| (n, i)).collect();
+    let parent_idx: Vec<Option<usize>> = dag
+        .iter()
+        .map(|&n| graph.parent_of(n).and_then(|p| index.get(&p).copied()))
+        .collect();
+    // Rest pose: disconnect non-DAG drivers of DAG nodes, evaluate, reconnect.
+    let drivers: Vec<(Plug, Plug)> = graph
+        .connections()
+        .into_iter()
+        .filter(|(s, d)| index.contains_key(&d.node) && !index.contains_key(&s.node))
+        .collect();
+    for (s, d) in &drivers {
+        graph.disconnect(*s, *d).map_err(|e| e.to_string())?;
+    }
+    let rest: Result<Vec<DMat4>, String> = dag
+        .iter()
+        .map(|&n| {
+            Ok(matrix(
+                &graph
+                    .get(attr_plug(graph, n, "worldMatrix")?)
+                    .map_err(|e| e.to_string())?,
+            ))
+        })
+        .collect();
+    for (s, d) in &drivers {
+        graph.connect(*s, *d).map_err(|e| e.to_string())?;
+    }
+    let rest = rest?;
+    let mut scene = Scene::default();
+    for (i, &n) in dag.iter().enumerate() {
+        let (s, r, t) = local_trs(parent_idx[i].map(|p| rest[p]), rest[i]);
+        scene.nodes.push(Node {
+            name: Some(name(graph, n)),
+            parent: parent_idx[i],
+            translation: t,
+            rotation: r,
+            scale: s,
+            ..Default::default()
+        });
+        if let Some(p) = parent_idx[i] {
+            scene.nodes[p].children.push(i);
+        } else {
+            scene.roots.push(i);
+        }
+    }
+    // Geometry.
+    let mut geoms: Vec<GeomOut> = Vec::new();
+    let mut consumed: HashSet<NodeId> = HashSet::new();
+    for n in graph.nodes() {
+        if graph.node_type(n) != Some("skinCluster") {
+            continue;
+        }
+        let (base, blend, _) = chain_input(graph, n, "inputGeometry", &mut warnings)?;
+        if let Some((bs, _, _)) = &blend {
+            consumed.insert(*bs);
+        }
+        let spec = graph.node_spec(n).ok_or("stale node")?;
+        let m_attr = spec.find("matrix").ok_or("skinCluster without matrix")?.0;
+        let elems = graph.elements(n, m_attr);
+        let count = elems.iter().max().map_or(0, |&m| m as usize + 1);
+        let sc = name(graph, n);
+        let mut joints = Vec::new();
+        let mut ibms = Vec::new();
+        for j in 0..count {
+            let p = graph.plug(&format!("{sc}.matrix[{j}]")).map_err(|e| e.to_string())?;
+            let src = graph
+                .source_of(p)
+                .filter(|s| index.contains_key(&s.node))
+                .ok_or_else(|| {
+                    format!("{sc}.matrix[{j}] must be connected from a joint's worldMatrix to bake a skin")
+                })?;
+            joints.push(src.node);
+            let ibm = graph
+                .get_path(&format!("{sc}.bindPreMatrix[{j}]"))
+                .map_err(|e| e.to_string())?;
+            ibms.push(matrix(&ibm).as_mat4());
+        }
+        let w = match graph.get_path(&format!("{sc}.weightList")).map_err(|e| e.to_string())? {
+            Value::Weights(w) => (*w).clone(),
+            _ => return Err(format!("{sc}.weightList is not weights")),
+        };
+        if w.vertex_count() != base.vertex_count() {
+            return Err(format!(
+                "{sc}: weights cover {} vertices but the mesh has {}",
+                w.vertex_count(),
+                base.vertex_count()
+            ));
+        }
+        geoms.push(GeomOut {
+            base,
+            skin: Some((joints, ibms, w)),
+            blend,
+            owner: None,
+            label: sc,
+        });
+    }
+    let feeds: HashSet<NodeId> = graph
+        .connections()
+        .into_iter()
+        .filter(|(_, d)| matches!(graph.node_type(d.node), Some("skinCluster" | "blendShape")))
+        .map(|(s, _)| s.node)
+        .collect();
+    for n in graph.nodes() {
+        match graph.node_type(n) {
+            Some("blendShape") if !consumed.contains(&n) => {
+                let Some(base_plug) = source(graph, n, "inputGeometry")? else {
+                    continue;
+                };
+                let base = mesh_of(graph, base_plug)?;
+                let owner = shape_owner(graph, base_plug.node)?;
+                let (targets, list) = blend_targets(graph, n, base.vertex_count(), &mut warnings)?;
+                geoms.push(GeomOut {
+                    base,
+                    skin: None,
+                    blend: Some((n, list, targets)),
+                    owner,
+                    label: name(graph, n),
+                });
+            }
+            Some("mesh") if !feeds.contains(&n) => {
+                let p = attr_plug(graph, n, "outMesh")?;
+                let base = mesh_of(graph, p)?;
+                let owner = shape_owner(graph, n)?;
+                geoms.push(GeomOut {
+                    base,
+                    skin: None,
+                    blend: None,
+                    owner,
+                    label: name(graph, n),
+                });
+            }
+            _ => {}
+        }
+    }
+    // Handles for the per-frame evaluation.
+    let program = Arc::new(Program::compile(graph, &CompileOptions::default()).map_err(|e| e.to_string())?);
+    let world_h = dag
+        .iter()
+        .map(|&n| {
+            program
+                .handle(&format!("{}.worldMatrix", name(graph, n)))
+                .map_err(|e| e.to_string())
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut weight_h = Vec::new();
+    let mut morph_nodes = Vec::new();
+    for g in geoms {
+        if g.base.vertex_count() == 0 {
+            warnings.push(format!("{}: empty mesh skipped", g.label));
+            continue;
+        }
+        let mut prim = Primitive {
+            mesh: g.base,
+            ..Default::default()
+        };
+        let mut node = Node {
+            name: Some(format!("{}_mesh", g.label)),
+            ..Default::default()
+        };
+        let mut weights_handles = Vec::new();
+        if let Some((bs, list, targets)) = g.blend {
+            let bname = name(graph, bs);
+            for &t in &list {
+                weights_handles.push(
+                    program
+                        .handle(&format!("{bname}.weight[{t}]"))
+                        .map_err(|e| e.to_string())?,
+                );
+            }
+            prim.targets = targets;
+        }
+        if let Some((joints, ibms, w)) = g.skin {
+            scene.skins.push(Skin {
+                name: Some(g.label.clone()),
+                joints: joints.iter().map(|j| index[j]).collect(),
+                inverse_bind_matrices: ibms,
+                skeleton: None,
+            });
+            prim.skin_weights = Some(w);
+            node.skin = Some(scene.skins.len() - 1);
+        }
+        scene.meshes.push(SceneMesh {
+            name: Some(g.label.clone()),
+            primitives: vec![prim],
+            ..Default::default()
+        });
+        node.mesh = Some(scene.meshes.len() - 1);
+        let id = scene.nodes.len();
+        match g.owner.and_then(|o| index.get(&o).copied()) {
+            Some(p) if node.skin.is_none() => {
+                node.parent = Some(p);
+                scene.nodes[p].children.push(id);
+            }
+            _ => scene.roots.push(id),
+        }
+        scene.nodes.push(node);
+        if !weights_handles.is_empty() {
+            weight_h.push(weights_handles);
+            morph_nodes.push(id);
+        }
+    }
+    // Sample.
+    let frames: Vec<i64> = (opts.start..=opts.end).collect();
+    let mut inst = Instance::new(program);
+    let n = dag.len();
+    let mut trs: Vec<Vec<(Vec3, Quat, Vec3)>> = vec![Vec::with_capacity(frames.len()); n];
+    let mut morph: Vec<Vec<f32>> = vec![Vec::new(); weight_h.len()];
+    for &f in &frames {
+        inst.evaluate(Time::new(f as f64, opts.fps))
+            .map_err(|e| format!("frame {f}: {e}"))?;
+        let world: Vec<DMat4> = world_h.iter().map(|h| matrix(&inst.get(h))).collect();
+        for i in 0..n {
+            trs[i].push(local_trs(parent_idx[i].map(|p| world[p]), world[i]));
+        }
+        for (k, hs) in weight_h.iter().enumerate() {
+            for h in hs {
+                morph[k].push(inst.get(h).as_f64().unwrap_or(0.0) as f32);
+            }
+        }
+    }
+    for (k, w) in morph.iter().enumerate() {
+        let width = weight_h[k].len();
+        scene.nodes[morph_nodes[k]].weights = w[..width].to_vec();
+    }
+    let times: Vec<f32> = frames
+        .iter()
+        .map(|&f| ((f - opts.start) as f64 / opts.fps) as f32)
+        .collect();
+    let mut anim = Animation {
+        name: Some(opts.name.clone()),
+        channels: Vec::new(),
+    };
+    for (i, keys) in trs.iter().enumerate() {
+        let ts: Vec<[f32; 3]> = keys.iter().map(|k| k.2.to_array()).collect();
+        let ss: Vec<[f32; 3]> = keys.iter().map(|k| k.0.to_array()).collect();
+        let mut rs: Vec<[f32; 4]> = Vec::with_capacity(keys.len());
+        for k in keys {
+            let mut q = k.1;
+            if let Some(prev) = rs.last() {
+                if Quat::from_array(*prev).dot(q) < 0.0 {
+                    q = -q;
+                }
+            }
+            rs.push(q.to_array());
+        }
+        let rest_node = &scene.nodes[i];
+        let rest_t = [rest_node.translation.to_array()];
+        let rest_s = [rest_node.scale.to_array()];
+        let rest_r = rest_node.rotation;
+        push_channel(
+            &mut anim,
+            i,
+            AnimPath::Translation,
+            &times,
+            &ts,
+            &rest_t,
+            opts.tolerance,
+            false,
+        );
+        push_channel(
+            &mut anim,
+            i,
+            AnimPath::Scale,
+            &times,
+            &ss,
+            &rest_s,
+            opts.tolerance,
+            false,
+        );
+        let rest_rr = [if rs.first().is_some_and(|q| Quat::from_array(*q).dot(rest_r) < 0.0) {
+            (-rest_r).to_array()
+        } else {
+            rest_r.to_array()
+        }];
+        push_channel(
+            &mut anim,
+            i,
+            AnimPath::Rotation,
+            &times,
+            &rs,
+            &rest_rr,
+            opts.tolerance,
+            true,
+        );
+    }
+    for (k, w) in morph.iter().enumerate() {
+        let width = weight_h[k].len();
+        let keys: Vec<Vec<f32>> = w.chunks(width).map(|c| c.to_vec()).collect();
+        let rest = [keys[0].clone()];
+        push_channel(
+            &mut anim,
+            morph_nodes[k],
+            AnimPath::Weights,
+            &times,
+            &keys,
+            &rest,
+            opts.tolerance,
+            false,
+        );
+    }
+    if !anim.channels.is_empty() {
+        scene.animations.push(anim);
+    }
+    scene
+        .validate()
+        .map_err(|e| format!("baked scene is inconsistent: {e}"))?;
+    Ok((scene, warnings))
+}
+
+fn dist(a: &[f32], b: &[f32], rotation: bool) -> f64 {
+    if rotation {
+        let d: f64 = a.iter().zip(b).map(|(x, y)| *x as f64 * *y as f64).sum();
+        2.0 * d.abs().min(1.0).acos()
+    } else {
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| (*x as f64 - *y as f64).abs())
+            .fold(0.0, f64::max)
+    }
+}
+
+fn interp(a: &[f32], b: &[f32], s: f64, rotation: bool) -> Vec<f32> {
+    if rotation {
+        let q = Quat::from_slice(a).slerp(Quat::from_slice(b), s as f32);
+        q.to_array().to_vec()
+    } else {
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| ((1.0 - s) * *x as f64 + s * *y as f64) as f32)
+            .collect()
+    }
+}
+
+/// Adds a LINEAR channel unless every key equals `rest` within `tol`; with `tol > 0`
+/// removes keys that interpolation reproduces within `tol`.
+#[allow(clippy::too_many_arguments)]
+fn push_channel<K: AsRef<[f32]>>(
+    anim: &mut Animation,
+    node: usize,
+    path: AnimPath,
+    times: &[f32],
+    keys: &[K],
+    rest: &[K],
+    tol: f64,
+    rotation: bool,
+) {
+    let Some(r) = rest.first() else { return };
+    let still = tol.max(1e-7);
+    if keys.iter().all(|k| dist(k.as_ref(), r.as_ref(), rotation) <= still) {
+        return;
+    }
+    let mut keep = vec![0usize];
+    if tol > 0.0 {
+        let mut a = 0;
+        let mut j = 2;
+        while j < keys.len() {
+            let ok = (a + 1..j).all(|m| {
+                let s = (times[m] - times[a]) as f64 / (times[j] - times[a]) as f64;
+                let v = interp(keys[a].as_ref(), keys[j].as_ref(), s, rotation);
+                dist(&v, keys[m].as_ref(), rotation) <= tol
+            });
+            if !ok {
+                keep.push(j - 1);
+                a = j - 1;
+            }
+            j += 1;
+        }
+        if keys.len() > 1 {
+            keep.push(keys.len() - 1);
+        }
+    } else {
+        keep = (0..keys.len()).collect();
+    }
+    let width = r.as_ref().len();
+    anim.channels.push(AnimationChannel {
+        node,
+        path,
+        interpolation: Interpolation::Linear,
+        times: keep.iter().map(|&k| times[k]).collect(),
+        width,
+        values: keep.iter().flat_map(|&k| keys[k].as_ref().to_vec()).collect(),
+    });
+}

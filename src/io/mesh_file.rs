@@ -1,0 +1,189 @@
+//! Meshes from files: Wavefront OBJ (through the `tobj` crate) and glTF (the first primitive
+//! of the first mesh, through [`super::read_gltf`]), and the rig-file hook that resolves
+//! `inMesh: File("body.obj")` references ([`MeshFileSource`], [`load_rig`]).
+//!
+//! OBJ: every object/group of the file is merged into one mesh, triangulated, with one
+//! index per vertex (positions, normals and UVs that share a corner are split as needed).
+//! UVs are kept only when every object has them; normals are read when every object has
+//! them and recomputed (smooth, area-weighted) otherwise. Materials are ignored.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use glam::{Vec2, Vec3};
+use sinew_core::rig::{load_rig_with, normalize, FsSource, RigSource};
+use sinew_core::{AttrType, Diagnostics, LoadedRig, Mesh, Registry, Value};
+
+/// Loads a mesh from an `.obj`, `.gltf` or `.glb` file (chosen by extension, case
+/// insensitive). The result is validated ([`Mesh::validate`]).
+pub fn load_mesh(path: impl AsRef<Path>) -> Result<Mesh, String> {
+    let path = path.as_ref();
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase())
+        .unwrap_or_default();
+    let mesh = match ext.as_str() {
+        "obj" => load_obj(path)?,
+        "gltf" | "glb" => load_gltf_mesh(path)?,
+        _ => {
+            return Err(format!(
+                "{}: unknown mesh file type; use .obj, .gltf or .glb",
+                path.display()
+            ))
+        }
+    };
+    mesh.validate().map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(mesh)
+}
+
+/// Reads a Wavefront OBJ file into one triangle mesh (see the module docs).
+pub fn load_obj(path: &Path) -> Result<Mesh, String> {
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        single_index: true,
+        ignore_points: true,
+        ignore_lines: true,
+    };
+    let (models, _materials) =
+        tobj::load_obj(path, &options).map_err(|e| format!("{}: cannot read OBJ: {e}", path.display()))?;
+    Ok(merge_obj(&models))
+}
+
+/// Merges `tobj` models (loaded with `single_index`) into one mesh.
+fn merge_obj(models: &[tobj::Model]) -> Mesh {
+    let all_uvs = !models.is_empty() && models.iter().all(|m| !m.mesh.texcoords.is_empty());
+    let all_normals = !models.is_empty() && models.iter().all(|m| !m.mesh.normals.is_empty());
+    let mut out = Mesh::default();
+    for m in models {
+        let base = out.positions.len() as u32;
+        let n = m.mesh.positions.len() / 3;
+        out.positions
+            .extend(m.mesh.positions.chunks_exact(3).map(|p| Vec3::new(p[0], p[1], p[2])));
+        if all_normals {
+            out.normals.extend(
+                m.mesh.normals[..(3 * n).min(m.mesh.normals.len())]
+                    .chunks_exact(3)
+                    .map(|p| Vec3::new(p[0], p[1], p[2]).try_normalize().unwrap_or(Vec3::Y)),
+            );
+        }
+        if all_uvs {
+            out.uvs.extend(
+                m.mesh.texcoords[..(2 * n).min(m.mesh.texcoords.len())]
+                    .chunks_exact(2)
+                    .map(|t| Vec2::new(t[0], t[1])),
+            );
+        }
+        out.triangles.extend(
+            m.mesh
+                .indices
+                .chunks_exact(3)
+                .map(|t| [base + t[0], base + t[1], base + t[2]]),
+        );
+    }
+    if out.normals.len() != out.positions.len() {
+        out.recompute_normals();
+    }
+    if out.uvs.len() != out.positions.len() {
+        out.uvs.clear();
+    }
+    out
+}
+
+/// Reads the first primitive of the first mesh of a glTF file.
+pub fn load_gltf_mesh(path: &Path) -> Result<Mesh, String> {
+    let scene = super::read_gltf(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    scene
+        .meshes
+        .into_iter()
+        .flat_map(|m| m.primitives)
+        .next()
+        .map(|p| p.mesh)
+        .ok_or_else(|| format!("{}: the glTF file has no mesh primitive", path.display()))
+}
+
+/// A [`RigSource`] that reads rig files from disk like [`FsSource`] and resolves
+/// `File("...")` references on mesh attributes with [`load_mesh`].
+#[derive(Clone, Copy, Debug, Default)]
+pub struct MeshFileSource;
+
+impl RigSource for MeshFileSource {
+    fn read(&self, path: &Path) -> std::io::Result<String> {
+        FsSource.read(path)
+    }
+
+    fn load_value(&self, path: &Path, ty: AttrType) -> Result<Value, String> {
+        match ty {
+            AttrType::Mesh => load_mesh(path).map(|m| Value::Mesh(Arc::new(m))),
+            other => Err(format!(
+                "cannot load a {other} from {}: only meshes can be read from files",
+                path.display()
+            )),
+        }
+    }
+}
+
+/// Loads a rig file whose mesh attributes may reference files (`inMesh: File("body.obj")`,
+/// relative to the rig file). Same as [`sinew_core::load_rig`] otherwise.
+pub fn load_rig(path: &Path, registry: &Arc<Registry>) -> Result<LoadedRig, Diagnostics> {
+    let key = normalize(path);
+    match MeshFileSource.read(&key) {
+        Ok(text) => load_rig_with(&text, &key, registry, &MeshFileSource),
+        // Let the core loader produce its usual "cannot read rig file" diagnostic.
+        Err(_) => sinew_core::load_rig(&key, registry),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn dir() -> std::path::PathBuf {
+        let d = std::env::temp_dir().join(format!("sinew-mesh-file-{}", std::process::id()));
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    const QUAD: &str = "# a unit quad in XY, two triangles after triangulation\n\
+        v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n\
+        vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
+        f 1/1 2/2 3/3 4/4\n";
+
+    #[test]
+    fn obj_quad_is_triangulated_with_uvs_and_normals() {
+        let p = dir().join("quad.obj");
+        std::fs::write(&p, QUAD).unwrap();
+        let m = load_mesh(&p).unwrap();
+        assert_eq!(m.positions.len(), 4);
+        assert_eq!(m.triangles.len(), 2);
+        assert_eq!(m.uvs[2], Vec2::new(1.0, 1.0));
+        // No `vn` lines: normals are recomputed; the quad is counter-clockwise seen from +Z.
+        assert!(m.normals.iter().all(|n| (*n - Vec3::Z).length() < 1e-6));
+    }
+
+    #[test]
+    fn bad_files_give_messages() {
+        assert!(load_mesh("nowhere/x.obj").unwrap_err().contains("cannot read OBJ"));
+        assert!(load_mesh("x.stl").unwrap_err().contains("unknown mesh file type"));
+    }
+
+    #[test]
+    fn rig_file_references_a_mesh_relative_to_itself() {
+        let d = dir().join("rig");
+        std::fs::create_dir_all(d.join("geo")).unwrap();
+        std::fs::write(d.join("geo/quad.obj"), QUAD).unwrap();
+        let rig = "Rig(nodes: { \"body\": mesh(inMesh: File(\"geo/quad.obj\")) })";
+        std::fs::write(d.join("r.rig"), rig).unwrap();
+        let registry = sinew_nodes::registry().unwrap();
+        let mut loaded = load_rig(&d.join("r.rig"), &registry).unwrap();
+        let Value::Mesh(m) = loaded.graph.get_path("body.outMesh").unwrap() else {
+            panic!("not a mesh")
+        };
+        assert_eq!(m.triangles.len(), 2);
+        // The core loader alone refuses, naming the facade.
+        let err = sinew_core::load_rig(&d.join("r.rig"), &registry)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("sinew facade"), "{err}");
+    }
+}

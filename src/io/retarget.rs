@@ -1,0 +1,440 @@
+//! Retargeting: drive a rig's skeleton from motion capture with different proportions and
+//! rest orientations. Implemented as an *importer*: it computes, per mocap frame, the
+//! rotate (and root translate) values of the target joints and adds `quatCurve` /
+//! `vectorCurve` nodes that drive them, so the result is an ordinary rig that evaluates,
+//! edits and bakes like any other.
+//!
+//! # Method
+//! - **Joint map**: source joint → target DAG node, from a map file (RON
+//!   `{ "Hips": "pelvis", "LeftUpLeg": "thigh_L", .. }`) or by default by canonical humanoid
+//!   names ([`canonical`]: `Hips/Spine/LeftUpLeg…`, `mixamorig:*`, `pelvis/thigh_l/calf_l`
+//!   style, `L_`/`_L` sides), matched after dropping namespaces, case, `_`, `-`, `.`, spaces.
+//! - **Rest-pose alignment**: each mapped joint receives its source joint's *world-space
+//!   rotation delta from the source rest pose*, applied on top of its own rest world
+//!   rotation: `Wt = (Ws · Ws_rest⁻¹) · Wt_rest`. Local axes and joint orients may differ
+//!   freely; the two rest poses should be the same *pose* (e.g. both T-poses), as with every
+//!   delta-based retargeter. Unmapped target joints keep their rest local rotation. The
+//!   BVH rest pose is all channels zero.
+//! - **Joint channels**: the local rotation `Q = Pt⁻¹ · Wt` is written to `rotate` through
+//!   the node's own parts: a joint's rotation is `JO · R · RA` (column vectors), so
+//!   `R = JO⁻¹ · Q · RA⁻¹`, in the node's `rotateOrder`.
+//! - **Root motion**: the target root (the node mapped from the source root) moves by the
+//!   source root's world displacement from rest times `leg ratio` = target leg length /
+//!   source leg length (hip→knee→ankle, left side; falling back to the ratio of root
+//!   heights above the lowest joint, then 1). World up and facing are assumed shared.
+//! - Not done: IK foot planting (feet may slide by the leg-ratio approximation error).
+
+use std::collections::{HashMap, HashSet};
+use std::path::Path;
+use std::sync::Arc;
+
+use glam::{DMat4, DQuat, DVec3};
+use sinew_core::rig::parse::{parse, Ast};
+use sinew_core::{Graph, NodeId, Plug, Value};
+use sinew_nodes::transform::dag_nodes::deg_to_rad;
+use sinew_nodes::transform::euler::euler_to_quat;
+
+use super::bake::dag_order;
+use super::bvh::Bvh;
+
+/// Canonical humanoid joint names with aliases; `@` stands for `left`/`right`, `#` for
+/// `l`/`r` (all normalized: lowercase, no separators).
+const ALIASES: &[(&str, &[&str])] = &[
+    ("hips", &["hips", "pelvis", "hip"]),
+    ("spine", &["spine", "spine01", "lowerback"]),
+    ("spine1", &["spine1", "spine02", "chest"]),
+    ("spine2", &["spine2", "spine03", "upperchest"]),
+    ("neck", &["neck", "neck01"]),
+    ("head", &["head"]),
+    (
+        "@shoulder",
+        &["@shoulder", "clavicle#", "#clavicle", "#shoulder", "shoulder#"],
+    ),
+    (
+        "@arm",
+        &["@arm", "@upperarm", "upperarm#", "#upperarm", "#humerus", "#arm"],
+    ),
+    (
+        "@forearm",
+        &[
+            "@forearm",
+            "@lowerarm",
+            "lowerarm#",
+            "forearm#",
+            "#forearm",
+            "#radius",
+            "#elbow",
+        ],
+    ),
+    ("@hand", &["@hand", "hand#", "#hand", "#wrist"]),
+    (
+        "@upleg",
+        &[
+            "@upleg",
+            "@upperleg",
+            "@thigh",
+            "thigh#",
+            "#thigh",
+            "#femur",
+            "upperleg#",
+            "#upleg",
+        ],
+    ),
+    (
+        "@leg",
+        &[
+            "@leg",
+            "@lowerleg",
+            "@shin",
+            "calf#",
+            "#calf",
+            "shin#",
+            "#shin",
+            "#tibia",
+            "#knee",
+            "lowerleg#",
+        ],
+    ),
+    ("@foot", &["@foot", "foot#", "#foot", "#ankle"]),
+    (
+        "@toebase",
+        &["@toebase", "@toe", "ball#", "toe#", "#toe", "#toes", "#toebase"],
+    ),
+];
+
+fn normalize(name: &str) -> String {
+    let base = name.rsplit(':').next().unwrap_or(name);
+    base.chars()
+        .filter(|c| c.is_ascii_alphanumeric())
+        .map(|c| c.to_ascii_lowercase())
+        .collect()
+}
+
+/// The canonical humanoid name of a joint name (`"mixamorig:LeftUpLeg"` → `"leftupleg"`,
+/// `"thigh_r"` → `"rightupleg"`), or `None` when it is not a known humanoid joint.
+pub fn canonical(name: &str) -> Option<String> {
+    let n = normalize(name);
+    for (canon, aliases) in ALIASES {
+        for side in [("left", "l"), ("right", "r")] {
+            for a in *aliases {
+                let form = a.replace('@', side.0).replace('#', side.1);
+                if form == n {
+                    return Some(canon.replace('@', side.0));
+                }
+            }
+            if !canon.contains('@') {
+                break;
+            }
+        }
+    }
+    None
+}
+
+/// Parses a map file: a RON map of source joint name to target node name.
+pub fn parse_map(text: &str, path: &Path) -> Result<Vec<(String, String)>, String> {
+    let file: Arc<Path> = Arc::from(path);
+    let root =
+        parse(text, &file).map_err(|d| format!("{}:{}:{}: {}", path.display(), d.span.line, d.span.col, d.message))?;
+    let Ast::Map(entries) = root.kind else {
+        return Err(format!(
+            "{}: write the map as {{ \"SourceJoint\": \"targetNode\", .. }}",
+            path.display()
+        ));
+    };
+    let mut out = Vec::new();
+    for (k, v) in entries {
+        match (k.kind, v.kind) {
+            (Ast::Str { value: a, .. }, Ast::Str { value: b, .. }) => out.push((a, b)),
+            _ => {
+                return Err(format!(
+                    "{}:{}: keys and values must be strings",
+                    path.display(),
+                    k.span.line
+                ))
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// The default map: first source and target joints whose names are equal after dropping
+/// namespaces, case and separators (`mixamorig:LeftArm` = `LeftArm`), then the remaining
+/// ones with the same [`canonical`] name.
+pub fn default_map(source: &[String], target: &[String]) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    let mut used_s = HashSet::new();
+    let mut used_t = HashSet::new();
+    for s in source {
+        if canonical(s).is_none() {
+            continue;
+        }
+        if let Some(t) = target
+            .iter()
+            .find(|t| normalize(t) == normalize(s) && !used_t.contains(*t))
+        {
+            used_s.insert(s.clone());
+            used_t.insert(t.clone());
+            out.push((s.clone(), t.clone()));
+        }
+    }
+    for s in source.iter().filter(|s| !used_s.contains(*s)) {
+        let Some(c) = canonical(s) else { continue };
+        let taken = out
+            .iter()
+            .any(|(a, _): &(String, String)| canonical(a).as_deref() == Some(c.as_str()));
+        if taken {
+            continue;
+        }
+        if let Some(t) = target
+            .iter()
+            .find(|t| !used_t.contains(*t) && canonical(t).as_deref() == Some(c.as_str()))
+        {
+            used_t.insert(t.clone());
+            out.push((s.clone(), t.clone()));
+        }
+    }
+    out
+}
+
+/// What [`retarget_bvh`] did.
+#[derive(Clone, Debug, Default)]
+pub struct RetargetReport {
+    /// `(source joint, target node)` pairs used.
+    pub pairs: Vec<(String, String)>,
+    /// Root motion scale (leg length ratio).
+    pub scale: f64,
+    /// Frames per second of the motion (the rig plays frame `f` at `f / fps` seconds).
+    pub fps: f64,
+    /// Frame range of the motion.
+    pub frames: (i64, i64),
+    /// Notes (skipped joints).
+    pub warnings: Vec<String>,
+}
+
+fn rot(m: &DMat4) -> DQuat {
+    let (_, r, _) = m.to_scale_rotation_translation();
+    r.normalize()
+}
+
+fn get(g: &mut Graph, node: NodeId, attr: &str) -> Option<Value> {
+    let name = g.node_name(node)?.to_string();
+    g.get_path(&format!("{name}.{attr}")).ok()
+}
+
+fn vec3(v: Option<Value>) -> DVec3 {
+    match v {
+        Some(Value::Vec3(x)) => x,
+        _ => DVec3::ZERO,
+    }
+}
+
+/// World matrices of the target's DAG nodes in the rest pose (drivers from non-DAG nodes
+/// disconnected while evaluating, then restored).
+fn rest_worlds(g: &mut Graph, dag: &[NodeId]) -> Result<Vec<DMat4>, String> {
+    let set: HashSet<NodeId> = dag.iter().copied().collect();
+    let drivers: Vec<(Plug, Plug)> = g
+        .connections()
+        .into_iter()
+        .filter(|(s, d)| set.contains(&d.node) && !set.contains(&s.node))
+        .collect();
+    for (s, d) in &drivers {
+        g.disconnect(*s, *d).map_err(|e| e.to_string())?;
+    }
+    let w: Vec<DMat4> = dag
+        .iter()
+        .map(|&n| match get(g, n, "worldMatrix") {
+            Some(Value::Matrix(m)) => m,
+            _ => DMat4::IDENTITY,
+        })
+        .collect();
+    for (s, d) in &drivers {
+        g.connect(*s, *d).map_err(|e| e.to_string())?;
+    }
+    Ok(w)
+}
+
+/// Adds curves to `target` that make its skeleton follow `bvh` (see the module docs).
+/// `map` is `(source joint, target node)`; `None` uses [`default_map`].
+pub fn retarget_bvh(bvh: &Bvh, target: &mut Graph, map: Option<&[(String, String)]>) -> Result<RetargetReport, String> {
+    if !(bvh.frame_time.is_finite() && bvh.frame_time > 0.0) || bvh.frame_count == 0 {
+        return Err("the BVH has no frames or a non-positive Frame Time".into());
+    }
+    let dag = dag_order(target);
+    let tnames: Vec<String> = dag
+        .iter()
+        .map(|&n| target.node_name(n).unwrap_or("").to_string())
+        .collect();
+    let snames: Vec<String> = bvh.joints.iter().map(|j| j.name.clone()).collect();
+    let pairs = match map {
+        Some(m) => m.to_vec(),
+        None => default_map(&snames, &tnames),
+    };
+    let mut report = RetargetReport {
+        fps: 1.0 / bvh.frame_time,
+        frames: (0, bvh.frame_count as i64 - 1),
+        ..Default::default()
+    };
+    let tindex: HashMap<&str, usize> = tnames.iter().enumerate().map(|(i, n)| (n.as_str(), i)).collect();
+    // target dag index -> source joint index
+    let mut src_of: HashMap<usize, usize> = HashMap::new();
+    for (s, t) in &pairs {
+        let si = bvh
+            .joint_index(s)
+            .ok_or_else(|| format!("map: the BVH has no joint {s:?}"))?;
+        let ti = *tindex
+            .get(t.as_str())
+            .ok_or_else(|| format!("map: the rig has no joint or transform {t:?}"))?;
+        src_of.insert(ti, si);
+        report.pairs.push((s.clone(), t.clone()));
+    }
+    if src_of.is_empty() {
+        return Err("no joints matched between the BVH and the rig; give --map MAP.ron".into());
+    }
+    let index: HashMap<NodeId, usize> = dag.iter().enumerate().map(|(i, &n)| (n, i)).collect();
+    let parent: Vec<Option<usize>> = dag
+        .iter()
+        .map(|&n| target.parent_of(n).and_then(|p| index.get(&p).copied()))
+        .collect();
+    let rest = rest_worlds(target, &dag)?;
+    let rest_local: Vec<DQuat> = (0..dag.len())
+        .map(|i| rot(&(parent[i].map_or(DMat4::IDENTITY, |p| rest[p]).inverse() * rest[i])))
+        .collect();
+    // Source rest pose: all channels zero → identity rotations, positions from offsets.
+    let mut src_rest_pos = vec![DVec3::ZERO; bvh.joints.len()];
+    for (i, j) in bvh.joints.iter().enumerate() {
+        src_rest_pos[i] = j.parent.map_or(DVec3::ZERO, |p| src_rest_pos[p]) + j.offset;
+    }
+    // Leg ratio.
+    let leg = |pos: &dyn Fn(&str) -> Option<DVec3>| -> Option<f64> {
+        let (a, b, c) = (pos("leftupleg")?, pos("leftleg")?, pos("leftfoot")?);
+        let l = (b - a).length() + (c - b).length();
+        (l > 1e-9).then_some(l)
+    };
+    let src_pos = |c: &str| {
+        snames
+            .iter()
+            .position(|n| canonical(n).as_deref() == Some(c))
+            .map(|i| src_rest_pos[i])
+    };
+    let tgt_pos = |c: &str| {
+        tnames
+            .iter()
+            .position(|n| canonical(n).as_deref() == Some(c))
+            .map(|i| rest[i].w_axis.truncate())
+    };
+    let root_t = (0..dag.len())
+        .filter(|t| src_of.contains_key(t))
+        .min_by_key(|t| {
+            let mut d = 0;
+            let mut p = parent[*t];
+            while let Some(q) = p {
+                d += 1;
+                p = parent[q];
+            }
+            d
+        })
+        .ok_or("no mapped target joint")?;
+    let root_s = src_of[&root_t];
+    report.scale = match (leg(&src_pos), leg(&tgt_pos)) {
+        (Some(s), Some(t)) => t / s,
+        _ => {
+            let low_s = src_rest_pos.iter().map(|p| p.y).fold(f64::MAX, f64::min);
+            let low_t = rest.iter().map(|m| m.w_axis.y).fold(f64::MAX, f64::min);
+            let hs = src_rest_pos[root_s].y - low_s;
+            let ht = rest[root_t].w_axis.y - low_t;
+            if hs > 1e-9 && ht > 1e-9 {
+                ht / hs
+            } else {
+                1.0
+            }
+        }
+    };
+    // Per-frame keys.
+    let n = dag.len();
+    let mut rot_keys: Vec<Vec<f64>> = vec![Vec::with_capacity(bvh.frame_count * 4); n];
+    let mut root_keys = Vec::with_capacity(bvh.frame_count * 3);
+    let jo: Vec<DQuat> = dag
+        .iter()
+        .map(|&d| euler_to_quat(deg_to_rad(vec3(get(target, d, "jointOrient"))), Default::default()))
+        .collect();
+    let ra: Vec<DQuat> = dag
+        .iter()
+        .map(|&d| euler_to_quat(deg_to_rad(vec3(get(target, d, "rotateAxis"))), Default::default()))
+        .collect();
+    let root_parent_world = parent[root_t].map_or(DMat4::IDENTITY, |p| rest[p]);
+    for f in 0..bvh.frame_count {
+        let sw = bvh.world_matrices(f);
+        let mut world_rot = vec![DQuat::IDENTITY; n];
+        for i in 0..n {
+            let prot = parent[i].map_or(DQuat::IDENTITY, |p| world_rot[p]);
+            world_rot[i] = match src_of.get(&i) {
+                Some(&s) => (rot(&sw[s]) * rot(&rest[i])).normalize(),
+                None => (prot * rest_local[i]).normalize(),
+            };
+            if src_of.contains_key(&i) {
+                let q = (prot.inverse() * world_rot[i]).normalize();
+                let mut r = jo[i].inverse() * q * ra[i].inverse();
+                if let Some(prev) = rot_keys[i].rchunks(4).next() {
+                    if DQuat::from_slice(prev).dot(r) < 0.0 {
+                        r = -r;
+                    }
+                }
+                rot_keys[i].extend_from_slice(&r.to_array());
+            }
+        }
+        let disp = (sw[root_s].w_axis.truncate() - src_rest_pos[root_s]) * report.scale;
+        let world_pos = rest[root_t].w_axis.truncate() + disp;
+        root_keys.extend_from_slice(&root_parent_world.inverse().transform_point3(world_pos).to_array());
+    }
+    let times = Arc::new(
+        (0..bvh.frame_count)
+            .map(|f| (f as f64 * bvh.frame_time) as f32 as f64)
+            .collect::<Vec<f64>>(),
+    );
+    for (i, keys) in rot_keys.into_iter().enumerate() {
+        if keys.is_empty() {
+            continue;
+        }
+        let node = tnames[i].clone();
+        let crv = unique(target, &format!("{node}_retarget_rotate"));
+        target.add_node("quatCurve", &crv).map_err(|e| e.to_string())?;
+        target
+            .set_path(&format!("{crv}.keyTime"), Value::FloatArray(times.clone()))
+            .map_err(|e| e.to_string())?;
+        target
+            .set_path(&format!("{crv}.keyValue"), Value::FloatArray(Arc::new(keys)))
+            .map_err(|e| e.to_string())?;
+        let order = get(target, dag[i], "rotateOrder")
+            .and_then(|v| v.as_f64())
+            .unwrap_or(0.0) as i64;
+        target
+            .set_path(&format!("{crv}.rotateOrder"), Value::Enum(order))
+            .map_err(|e| e.to_string())?;
+        if let Err(e) = target.connect_path(&format!("{crv}.outputRotate"), &format!("{node}.rotate")) {
+            report.warnings.push(format!("{node}.rotate is not retargeted: {e}"));
+        }
+    }
+    let node = tnames[root_t].clone();
+    let crv = unique(target, &format!("{node}_retarget_translate"));
+    target.add_node("vectorCurve", &crv).map_err(|e| e.to_string())?;
+    target
+        .set_path(&format!("{crv}.keyTime"), Value::FloatArray(times))
+        .map_err(|e| e.to_string())?;
+    target
+        .set_path(&format!("{crv}.keyValue"), Value::FloatArray(Arc::new(root_keys)))
+        .map_err(|e| e.to_string())?;
+    if let Err(e) = target.connect_path(&format!("{crv}.output"), &format!("{node}.translate")) {
+        report.warnings.push(format!("{node}.translate is not retargeted: {e}"));
+    }
+    Ok(report)
+}
+
+fn unique(g: &Graph, base: &str) -> String {
+    let mut name = base.to_string();
+    let mut k = 1;
+    while g.find_node(&name).is_some() {
+        name = format!("{base}_{k}");
+        k += 1;
+    }
+    name
+}

@@ -1,0 +1,266 @@
+//! A rig under construction by an importer: nodes with attribute values, DAG parents and
+//! connections, turned either into a [`Graph`] directly or into rig text split in two files:
+//! the readable main rig and a *data sidecar* holding the nodes with heavy values.
+//!
+//! # The data sidecar (see `docs/rig-format.md`, "Imported rigs and their data file")
+//! `sinew import model.glb -o model.ron` writes `model.ron` (header, the joint/transform
+//! hierarchy with rest values, all connections) and `model.data.ron` (mesh, skinCluster,
+//! blendShape and animation curve nodes with their arrays). The main rig pulls the data in
+//! with `uses: [Use(file: "model.data.ron")]`, so any sinew command (`check`, `eval`,
+//! `fmt`) loads the pair with the ordinary rig loader and no special support: connections
+//! in the main file reach the data file's nodes by name.
+
+use std::collections::HashSet;
+use std::fmt::Write as _;
+use std::path::Path;
+use std::sync::Arc;
+
+use sinew_core::rig::doc::{print_ast, quote};
+use sinew_core::rig::typed::write_value;
+use sinew_core::{Graph, Registry, Value};
+
+/// An attribute value: one value, or the elements `0..n` of a multi attribute.
+#[derive(Clone, Debug)]
+pub enum AttrVal {
+    /// A plain attribute.
+    One(Value),
+    /// Elements `0..n` of a multi attribute.
+    Multi(Vec<Value>),
+}
+
+/// One node of a [`RigBuilder`].
+#[derive(Clone, Debug)]
+pub struct NodeRec {
+    /// Unique node name (a rig identifier).
+    pub name: String,
+    /// Registered node type.
+    pub type_name: String,
+    /// DAG parent.
+    pub parent: Option<String>,
+    /// Attribute values by attribute name, in writing order.
+    pub values: Vec<(String, AttrVal)>,
+    /// Whether the node goes to the data sidecar.
+    pub heavy: bool,
+}
+
+/// Nodes, values and connections of a rig being built.
+#[derive(Clone, Debug, Default)]
+pub struct RigBuilder {
+    /// Rig name.
+    pub name: String,
+    /// Frames per second.
+    pub fps: f64,
+    /// Frame range.
+    pub frames: Option<(f64, f64)>,
+    /// Nodes in creation order (parents before children).
+    pub nodes: Vec<NodeRec>,
+    /// Connections `(source plug, destination plug)`.
+    pub connections: Vec<(String, String)>,
+    used: HashSet<String>,
+}
+
+/// Turns arbitrary text into a unique rig identifier (letters, digits, `_`, `:`; not
+/// starting with a digit), recording it in `used`.
+pub fn unique_name(used: &mut HashSet<String>, raw: &str, fallback: &str) -> String {
+    let mut s: String = raw
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' || c == ':' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if s.is_empty() {
+        s = fallback.to_string();
+    }
+    if s.starts_with(|c: char| c.is_ascii_digit()) {
+        s.insert(0, '_');
+    }
+    let mut name = s.clone();
+    let mut k = 1;
+    while used.contains(&name) {
+        name = format!("{s}_{k}");
+        k += 1;
+    }
+    used.insert(name.clone());
+    name
+}
+
+impl RigBuilder {
+    /// An empty rig.
+    pub fn new(name: &str, fps: f64) -> Self {
+        RigBuilder {
+            name: name.to_string(),
+            fps,
+            ..Default::default()
+        }
+    }
+
+    /// Reserves a unique node name derived from `raw`.
+    pub fn name(&mut self, raw: &str, fallback: &str) -> String {
+        unique_name(&mut self.used, raw, fallback)
+    }
+
+    /// Adds a node (its name must come from [`RigBuilder::name`]); returns its index.
+    pub fn add(&mut self, name: &str, type_name: &str, parent: Option<&str>, heavy: bool) -> usize {
+        self.used.insert(name.to_string());
+        self.nodes.push(NodeRec {
+            name: name.to_string(),
+            type_name: type_name.to_string(),
+            parent: parent.map(str::to_string),
+            values: Vec::new(),
+            heavy,
+        });
+        self.nodes.len() - 1
+    }
+
+    /// Sets a plain attribute of node `i`.
+    pub fn set(&mut self, i: usize, attr: &str, v: Value) {
+        self.nodes[i].values.push((attr.to_string(), AttrVal::One(v)));
+    }
+
+    /// Sets elements `0..n` of a multi attribute of node `i`.
+    pub fn set_multi(&mut self, i: usize, attr: &str, v: Vec<Value>) {
+        self.nodes[i].values.push((attr.to_string(), AttrVal::Multi(v)));
+    }
+
+    /// Adds a connection.
+    pub fn connect(&mut self, src: impl Into<String>, dst: impl Into<String>) {
+        self.connections.push((src.into(), dst.into()));
+    }
+
+    /// Builds the graph directly (what loading the written files gives).
+    pub fn to_graph(&self, registry: &Arc<Registry>) -> Result<Graph, String> {
+        let mut g = Graph::new(registry.clone());
+        for n in &self.nodes {
+            g.add_node(&n.type_name, &n.name)
+                .map_err(|e| format!("node {}: {e}", n.name))?;
+        }
+        for n in &self.nodes {
+            if let Some(p) = &n.parent {
+                let (c, p) = (g.node_id(&n.name), g.node_id(p));
+                let (c, p) = (c.map_err(|e| e.to_string())?, p.map_err(|e| e.to_string())?);
+                g.set_parent(c, Some(p))
+                    .map_err(|e| format!("parent of {}: {e}", n.name))?;
+            }
+            for (attr, v) in &n.values {
+                match v {
+                    AttrVal::One(v) => g.set_path(&format!("{}.{attr}", n.name), v.clone()),
+                    AttrVal::Multi(vs) => vs
+                        .iter()
+                        .enumerate()
+                        .try_for_each(|(k, v)| g.set_path(&format!("{}.{attr}[{k}]", n.name), v.clone())),
+                }
+                .map_err(|e| format!("{}.{attr}: {e}", n.name))?;
+            }
+        }
+        for (s, d) in &self.connections {
+            g.connect_path(s, d).map_err(|e| format!("{s} -> {d}: {e}"))?;
+        }
+        g.set_time(sinew_core::Time::new(self.frames.map_or(0.0, |f| f.0), self.fps));
+        Ok(g)
+    }
+
+    fn print_nodes(&self, registry: &Registry, heavy: bool, out: &mut String) -> Result<(), String> {
+        let nodes: Vec<&NodeRec> = self.nodes.iter().filter(|n| n.heavy == heavy).collect();
+        if nodes.is_empty() {
+            return Ok(());
+        }
+        out.push_str("    nodes: {\n");
+        for n in nodes {
+            let ty = registry
+                .get(&n.type_name)
+                .ok_or_else(|| format!("unknown node type {}", n.type_name))?;
+            let spec = ty.spec();
+            let mut parts = Vec::new();
+            if let Some(p) = &n.parent {
+                let mut s = String::from("parent: ");
+                quote(&mut s, p);
+                parts.push(s);
+            }
+            for (attr, v) in &n.values {
+                let a = spec.find(attr).map(|(id, _)| spec.attr(id));
+                let mut s = format!("{attr}: ");
+                match v {
+                    AttrVal::One(v) => print_ast(&mut s, &write_value(v, a)),
+                    AttrVal::Multi(vs) => {
+                        s.push('[');
+                        for (k, v) in vs.iter().enumerate() {
+                            if k > 0 {
+                                s.push_str(", ");
+                            }
+                            print_ast(&mut s, &write_value(v, a));
+                        }
+                        s.push(']');
+                    }
+                }
+                parts.push(s);
+            }
+            out.push_str("        ");
+            quote(out, &n.name);
+            let one = parts.join(", ");
+            if one.len() + n.name.len() + n.type_name.len() < 100 {
+                let _ = writeln!(out, ": {}({one}),", n.type_name);
+            } else {
+                let _ = writeln!(out, ": {}(", n.type_name);
+                for p in parts {
+                    let _ = writeln!(out, "            {p},");
+                }
+                out.push_str("        ),\n");
+            }
+        }
+        out.push_str("    },\n");
+        Ok(())
+    }
+
+    /// The main rig text (using `data_file`, a path relative to it) and the data text.
+    pub fn to_texts(&self, registry: &Registry, data_file: &str) -> Result<(String, String), String> {
+        let mut main = String::from(
+            "// Imported by `sinew import`; heavy arrays live in the data file used below.\nRig(\n    name: ",
+        );
+        quote(&mut main, &self.name);
+        let _ = writeln!(main, ",\n    fps: {:?},", self.fps);
+        if let Some((a, b)) = self.frames {
+            let _ = writeln!(main, "    frames: ({a:?}, {b:?}),");
+        }
+        let has_heavy = self.nodes.iter().any(|n| n.heavy);
+        if has_heavy {
+            main.push_str("    uses: [\n        Use(file: ");
+            quote(&mut main, data_file);
+            main.push_str("),\n    ],\n");
+        }
+        self.print_nodes(registry, false, &mut main)?;
+        if !self.connections.is_empty() {
+            main.push_str("    connections: [\n");
+            for (s, d) in &self.connections {
+                main.push_str("        ");
+                quote(&mut main, &format!("{s} -> {d}"));
+                main.push_str(",\n");
+            }
+            main.push_str("    ],\n");
+        }
+        main.push_str(")\n");
+        let mut data = String::from(
+            "// Data sidecar of an imported rig (meshes, skin weights, blend shape targets, animation keys).\nRig(\n",
+        );
+        self.print_nodes(registry, true, &mut data)?;
+        data.push_str(")\n");
+        Ok((main, data))
+    }
+
+    /// Writes `path` and its data sidecar (`<stem>.data.ron` next to it); returns the
+    /// sidecar path.
+    pub fn write(&self, registry: &Registry, path: &Path) -> Result<std::path::PathBuf, String> {
+        let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("rig");
+        let data_name = format!("{stem}.data.ron");
+        let data_path = path.with_file_name(&data_name);
+        let (main, data) = self.to_texts(registry, &data_name)?;
+        std::fs::write(path, main).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        if self.nodes.iter().any(|n| n.heavy) {
+            std::fs::write(&data_path, data).map_err(|e| format!("cannot write {}: {e}", data_path.display()))?;
+        }
+        Ok(data_path)
+    }
+}
