@@ -361,6 +361,7 @@ mod tests {
         crate::cli::rig_cmds::check(&out, &registry).unwrap();
         let text = std::fs::read_to_string(&out).unwrap();
         assert!(!text.contains("skinCluster"));
+        assert!(text.starts_with("// Written by `sinew skeletonize`"), "{text}");
         // Errors: unknown extension, missing file, degenerate mesh.
         let e = skeletonize_cmd(&d.join("x.stl"), &out, &opts, &registry).unwrap_err();
         assert!(e.contains(".obj"), "{e}");

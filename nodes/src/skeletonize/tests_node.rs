@@ -314,9 +314,11 @@ fn errors_name_the_problem() {
     let e = g.get_path("sk.jointPositions").unwrap_err().to_string();
     assert!(e.contains("empty"), "{e}");
     // A flat line of triangles has no area from any side.
-    let mut line = Mesh::default();
-    line.positions = vec![Vec3::ZERO, Vec3::X, Vec3::X * 2.0];
-    line.triangles = vec![[0, 1, 2]];
+    let line = Mesh {
+        positions: vec![Vec3::ZERO, Vec3::X, Vec3::X * 2.0],
+        triangles: vec![[0, 1, 2]],
+        ..Default::default()
+    };
     let mut g = graph_with(line);
     let e = g.get_path("sk.jointCount").unwrap_err().to_string();
     assert!(e.contains("degenerate"), "{e}");
