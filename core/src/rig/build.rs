@@ -564,13 +564,28 @@ impl<'a> Expander<'a> {
         let mut flat = self.expand_body(&body, &target_scope, stack, None);
         stack.pop();
         self.apply_sets(&mut flat, &u.set);
+        let renames = u.renames();
+        let rename = |n: &str| -> String {
+            let mut s = n.to_string();
+            for (a, b) in &renames {
+                s = s.replace(a.as_str(), b);
+            }
+            s
+        };
         if let Some(plane) = u.mirror {
             let names: HashSet<String> = flat.nodes.iter().map(|n| n.name.clone()).collect();
             for node in &mut flat.nodes {
                 let Some(spec) = Self::spec_of(&node.kind).cloned() else {
                     continue;
                 };
-                let child = node.parent.as_ref().is_some_and(|p| names.contains(&p.0));
+                // A child of the mirror: its parent is mirrored with it, either
+                // inside this instance or as an outside node whose name the
+                // rename maps to its counterpart (a hand under `wrist_L`
+                // mirrored to `wrist_R`).
+                let child = node
+                    .parent
+                    .as_ref()
+                    .is_some_and(|p| names.contains(&p.0) || rename(&p.0) != p.0);
                 let role_attr = |r: MirrorRole| spec.attr_ids().find(|&id| spec.attr(id).mirror == r);
                 let has_jo = role_attr(MirrorRole::JointOrient).is_some();
                 let rotate_order = role_attr(MirrorRole::RotateOrder)
@@ -613,18 +628,15 @@ impl<'a> Expander<'a> {
                 }
             }
         }
-        let renames = u.renames();
         let defined: HashSet<String> = flat.nodes.iter().map(|n| n.name.clone()).collect();
         let prefix = u.prefix.clone();
+        // Names the instance defines get the rename and the prefix; outside
+        // names get the rename only (`wrist_L` -> `wrist_R`; `spine_3` stays).
         let map = move |n: &str| -> String {
             if defined.contains(n) {
-                let mut s = n.to_string();
-                for (a, b) in &renames {
-                    s = s.replace(a.as_str(), b);
-                }
-                format!("{prefix}{s}")
+                format!("{prefix}{}", rename(n))
             } else {
-                n.to_string()
+                rename(n)
             }
         };
         for n in &mut flat.nodes {

@@ -460,3 +460,45 @@ fn watch_timing() {
     println!("re-validation of a 2,000-node rig: {best:.2} ms (best of 10)");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A mirrored component whose node hangs under an outside node with the
+/// rename pattern (a hand under `wrist_L`) follows the mirrored counterpart
+/// (`wrist_R`) and gets the child rule: `W' = S W N` still holds.
+#[test]
+fn mirrored_component_parented_to_an_outside_mirrored_node() {
+    let text = r#"Rig(
+    components: {
+        "arm": (
+            nodes: {
+                "shoulder_L": testJoint(parent: "chest", translate: (0.2, 0.3, 0.1), jointOrient: (0, 0, -90)),
+                "wrist_L": testJoint(parent: "shoulder_L", translate: (0.5, 0.0, 0.02), rotate: (0, -20, 0)),
+            },
+        ),
+        "hand": (
+            nodes: {
+                "finger_L": testJoint(parent: "wrist_L", translate: (0.1, 0.02, 0.03), rotate: (0, 0, 20)),
+            },
+        ),
+    },
+    uses: [
+        Use(component: "arm"),
+        Use(component: "arm", mirror: YZ),
+        Use(component: "hand"),
+        Use(component: "hand", mirror: YZ),
+    ],
+    nodes: {
+        "chest": testJoint(translate: (0.0, 1.4, 0.0)),
+    },
+)"#;
+    let r = load(&text);
+    let mut g = r.graph;
+    let finger_r = g.node_id("finger_R").unwrap();
+    assert_eq!(g.node_name(g.parent_of(finger_r).unwrap()), Some("wrist_R"));
+    assert_eq!(vec3(&g, "finger_R.translate"), DVec3::new(-0.1, -0.02, -0.03));
+    let (sm, n) = (
+        DMat4::from_scale(DVec3::new(-1.0, 1.0, 1.0)),
+        DMat4::from_scale(DVec3::splat(-1.0)),
+    );
+    let (wl, wr) = (world(&mut g, "finger_L"), world(&mut g, "finger_R"));
+    assert!(wr.abs_diff_eq(sm * wl * n, 1e-9), "{wr}\nvs\n{}", sm * wl * n);
+}
