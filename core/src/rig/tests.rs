@@ -490,7 +490,7 @@ fn mirrored_component_parented_to_an_outside_mirrored_node() {
         "chest": testJoint(translate: (0.0, 1.4, 0.0)),
     },
 )"#;
-    let r = load(&text);
+    let r = load(text);
     let mut g = r.graph;
     let finger_r = g.node_id("finger_R").unwrap();
     assert_eq!(g.node_name(g.parent_of(finger_r).unwrap()), Some("wrist_R"));
