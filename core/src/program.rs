@@ -579,12 +579,7 @@ impl<'g> Compiler<'g> {
                 let first = elems.len() as u32;
                 let multi = spec.attrs[a].multi;
                 for e in &store.elems {
-                    let plug = Plug {
-                        node: id,
-                        attr: AttrId(a as u16),
-                        index: multi.then_some(e.index),
-                        component: None,
-                    };
+                    let plug = Plug::element(id, AttrId(a as u16), multi, e.index);
                     let binding = self.binding_of(plug, 0)?;
                     elems.push(ElemBinding {
                         index: e.index,

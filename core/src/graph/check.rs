@@ -36,12 +36,7 @@ impl Graph {
                     return Err(format!("{}.{} elements are not sorted", data.name, spec.attrs[a].name));
                 }
                 for e in &store.elems {
-                    let here = Plug {
-                        node: id,
-                        attr: AttrId(a as u16),
-                        index: multi.then_some(e.index),
-                        component: None,
-                    };
+                    let here = Plug::element(id, AttrId(a as u16), multi, e.index);
                     if e.value.attr_type() != spec.attrs[a].ty
                         && !(spec.attrs[a].ty == crate::value::AttrType::Enum
                             && e.value.attr_type() == crate::value::AttrType::Int)

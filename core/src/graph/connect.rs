@@ -274,12 +274,7 @@ impl Graph {
             for (a, store) in data.attrs.iter().enumerate() {
                 let multi = spec.attrs[a].multi;
                 for e in &store.elems {
-                    let dst = Plug {
-                        node: id,
-                        attr: AttrId(a as u16),
-                        index: multi.then_some(e.index),
-                        component: None,
-                    };
+                    let dst = Plug::element(id, AttrId(a as u16), multi, e.index);
                     if let Some(s) = e.source {
                         out.push((s, dst));
                     }

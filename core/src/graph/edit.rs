@@ -68,12 +68,7 @@ impl Graph {
         let mut links: Vec<(Plug, Plug)> = Vec::new();
         for (a, store) in data.attrs.iter().enumerate() {
             for e in &store.elems {
-                let here = Plug {
-                    node: id,
-                    attr: crate::spec::AttrId(a as u16),
-                    index: data.spec().attrs[a].multi.then_some(e.index),
-                    component: None,
-                };
+                let here = Plug::element(id, crate::spec::AttrId(a as u16), data.spec().attrs[a].multi, e.index);
                 if let Some(s) = e.source {
                     links.push((s, here));
                 }

@@ -264,12 +264,7 @@ impl Graph {
                     let multi = spec.attr(a).multi;
                     for e in &data.attrs[a.index()].elems {
                         if e.is_driven() {
-                            let p = Plug {
-                                node: n,
-                                attr: a,
-                                index: multi.then_some(e.index),
-                                component: None,
-                            };
+                            let p = Plug::element(n, a, multi, e.index);
                             self.upstream_groups(p, &mut deps);
                         }
                     }
@@ -289,12 +284,7 @@ impl Graph {
                         continue;
                     }
                     let i = e.index;
-                    self.refresh_input(Plug {
-                        node: n,
-                        attr: a,
-                        index: multi.then_some(i),
-                        component: None,
-                    });
+                    self.refresh_input(Plug::element(n, a, multi, i));
                 }
             }
             let rev = self.revision;

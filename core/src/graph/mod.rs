@@ -73,6 +73,17 @@ impl Plug {
         }
     }
 
+    /// The plug of stored element `index` of `attr`: indexed for a multi
+    /// attribute, plain for a single one (whose one element is 0).
+    pub fn element(node: NodeId, attr: AttrId, multi: bool, index: u32) -> Self {
+        Plug {
+            node,
+            attr,
+            index: multi.then_some(index),
+            component: None,
+        }
+    }
+
     /// The element index used in storage (0 for single attributes).
     pub(crate) fn elem(&self) -> u32 {
         self.index.unwrap_or(0)

@@ -30,12 +30,7 @@ struct Authored {
 fn authored(g: &Graph, node: NodeId, attr: AttrId, a: &AttrSpec) -> Vec<Authored> {
     let mut out = Vec::new();
     for i in g.elements(node, attr) {
-        let plug = Plug {
-            node,
-            attr,
-            index: a.multi.then_some(i),
-            component: None,
-        };
+        let plug = Plug::element(node, attr, a.multi, i);
         if g.source_of(plug).is_some() {
             out.push(Authored {
                 index: plug.index,
