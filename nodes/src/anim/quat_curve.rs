@@ -192,6 +192,7 @@ pub struct QuatCurve {
     key_value: Input<Arc<Vec<f64>>>,
     interpolation: Input<i64>,
     rotate_order: Input<i64>,
+    keys_valid: Output<bool>,
     output_quat: Output<DQuat>,
     output_rotate: Output<DVec3>,
 }
@@ -205,9 +206,17 @@ impl QuatCurve {
         let key_value = s.input("keyValue", Arc::new(Vec::new()));
         let interpolation = s.input_enum("interpolation", &INTERPOLATIONS, 0);
         let rotate_order = s.input_enum("rotateOrder", &ROTATE_ORDERS, 0);
+        let keys_valid = s.output("keysValid", false);
         let output_quat = s.output("outputQuat", DQuat::IDENTITY);
         let output_rotate = s.output("outputRotate", DVec3::ZERO);
         s.unit(output_rotate, Unit::Degrees);
+        // Keys are validated once when they change, not every frame.
+        let keys = [key_time.id(), key_value.id(), interpolation.id()];
+        s.affects(&keys, &[keys_valid.id()]);
+        let sampled = [output_quat.id(), output_rotate.id()];
+        s.affects(&keys, &sampled)
+            .affects(&[keys_valid.id(), rotate_order.id()], &sampled);
+        s.attr_doc(keys_valid, "true once the keys passed validation");
         s.attr_doc(key_time, "key times in seconds, increasing")
             .attr_doc(
                 key_value,
@@ -218,13 +227,14 @@ impl QuatCurve {
                 output_rotate,
                 "euler degrees in rotateOrder: connect to a joint's rotate",
             );
-        s.time_dependent();
+        s.time_affects(&sampled);
         Ok(QuatCurve {
             spec: s.build()?,
             key_time,
             key_value,
             interpolation,
             rotate_order,
+            keys_valid,
             output_quat,
             output_rotate,
         })
@@ -240,7 +250,14 @@ impl NodeType for QuatCurve {
         let times = ctx.get(self.key_time);
         let values = ctx.get(self.key_value);
         let interp = Interp::from_index(ctx.get(self.interpolation));
-        check_keys(&times, &values, 4, interp).map_err(|e| ComputeError::new(format!("quatCurve: {e}")))?;
+        if ctx.wants(self.keys_valid) {
+            check_keys(&times, &values, 4, interp).map_err(|e| ComputeError::new(format!("quatCurve: {e}")))?;
+            ctx.set(self.keys_valid, true);
+            return Ok(());
+        }
+        if !ctx.get_output(self.keys_valid) {
+            return Err(ComputeError::new("quatCurve: keys were not validated"));
+        }
         let mut q = [0.0; 4];
         sample_keys(&times, &values, 4, interp, true, ctx.time().seconds(), &mut q);
         let quat = DQuat::from_xyzw(q[0], q[1], q[2], q[3]);
@@ -261,6 +278,7 @@ pub struct VectorCurve {
     key_value: Input<Arc<Vec<f64>>>,
     interpolation: Input<i64>,
     width: Input<i64>,
+    keys_valid: Output<bool>,
     output: Output<DVec3>,
     output_value: MultiOutput<f64>,
 }
@@ -274,8 +292,15 @@ impl VectorCurve {
         let key_value = s.input("keyValue", Arc::new(Vec::new()));
         let interpolation = s.input_enum("interpolation", &INTERPOLATIONS, 0);
         let width = s.input("width", 3i64);
+        let keys_valid = s.output("keysValid", false);
         let output = s.output("output", DVec3::ZERO);
         let output_value = s.multi_output("outputValue", 0.0);
+        // Keys are validated once when they change, not every frame.
+        let keys = [key_time.id(), key_value.id(), interpolation.id(), width.id()];
+        s.affects(&keys, &[keys_valid.id()]);
+        let sampled = [output.id(), output_value.id()];
+        s.affects(&keys, &sampled).affects(&[keys_valid.id()], &sampled);
+        s.attr_doc(keys_valid, "true once the keys passed validation");
         s.attr_doc(key_time, "key times in seconds, increasing")
             .attr_doc(
                 key_value,
@@ -284,13 +309,14 @@ impl VectorCurve {
             .attr_doc(width, "components per key (1..=256)")
             .attr_doc(output, "components 0, 1, 2 (missing ones 0)")
             .attr_doc(output_value, "component i (e.g. morph target weight i)");
-        s.time_dependent();
+        s.time_affects(&sampled);
         Ok(VectorCurve {
             spec: s.build()?,
             key_time,
             key_value,
             interpolation,
             width,
+            keys_valid,
             output,
             output_value,
         })
@@ -313,7 +339,14 @@ impl NodeType for VectorCurve {
             )));
         }
         let width = width as usize;
-        check_keys(&times, &values, width, interp).map_err(|e| ComputeError::new(format!("vectorCurve: {e}")))?;
+        if ctx.wants(self.keys_valid) {
+            check_keys(&times, &values, width, interp).map_err(|e| ComputeError::new(format!("vectorCurve: {e}")))?;
+            ctx.set(self.keys_valid, true);
+            return Ok(());
+        }
+        if !ctx.get_output(self.keys_valid) {
+            return Err(ComputeError::new("vectorCurve: keys were not validated"));
+        }
         let mut buf = [0.0f64; MAX_WIDTH];
         let out = &mut buf[..width];
         sample_keys(&times, &values, width, interp, false, ctx.time().seconds(), out);
