@@ -254,8 +254,9 @@ pub(super) struct OutPose {
     pub end_effector: DVec3,
     /// `status` code.
     pub status: i64,
-    /// Human-readable status.
-    pub message: String,
+    /// Human-readable status (static text for the common cases, so a frame
+    /// that reaches its goal formats nothing).
+    pub message: std::borrow::Cow<'static, str>,
 }
 
 impl OutPose {
@@ -270,7 +271,7 @@ impl OutPose {
             translate,
             end_effector: DVec3::ZERO,
             status: STATUS_INVALID,
-            message: format!("invalid: {err}; outputs are the rest pose (preferredAngle)"),
+            message: format!("invalid: {err}; outputs are the rest pose (preferredAngle)").into(),
         };
         pose.end_effector = pose.fk_end(read);
         pose
@@ -320,13 +321,14 @@ impl OutPose {
         }
         let status = status_code(&sol.status);
         let message = match &sol.status {
-            IkStatus::Reached => "reached".to_string(),
-            IkStatus::Unreachable => "unreachable: the chain is held short of the goal".to_string(),
+            IkStatus::Reached => "reached".into(),
+            IkStatus::Unreachable => "unreachable: the chain is held short of the goal".into(),
             IkStatus::NotConverged => format!(
                 "not converged after {} iterations (raise maxIterations or tolerance)",
                 sol.iterations
-            ),
-            IkStatus::Invalid(e) => e.to_string(),
+            )
+            .into(),
+            IkStatus::Invalid(e) => e.to_string().into(),
         };
         let mut pose = OutPose {
             rotate,
@@ -437,7 +439,10 @@ impl ChainOutputs {
         }
         ctx.set(self.end_effector, pose.end_effector);
         ctx.set(self.status, pose.status);
-        ctx.set(self.status_message, Arc::from(pose.message.as_str()));
+        // The message rarely changes: rewrite it (allocating) only when it does.
+        if *ctx.get_output(self.status_message) != *pose.message {
+            ctx.set(self.status_message, Arc::from(&*pose.message));
+        }
         let error = if pose.status == STATUS_INVALID || !error.is_finite() {
             -1.0
         } else {
