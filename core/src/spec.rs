@@ -384,6 +384,15 @@ impl SpecBuilder {
         self
     }
 
+    /// The inputs declared so far, in declaration order (handy for "every input affects
+    /// these outputs" when a node splits its outputs into several groups).
+    pub fn input_ids(&self) -> Vec<AttrId> {
+        (0..self.attrs.len())
+            .filter(|&i| self.attrs[i].direction == Direction::Input)
+            .map(|i| AttrId(i as u16))
+            .collect()
+    }
+
     /// Declares that each of `inputs` affects each of `outputs`.
     ///
     /// When a spec declares no `affects` at all, every input affects every output.

@@ -146,14 +146,32 @@ impl BSpline {
     }
 }
 
+/// Largest degree evaluated without allocating (higher degrees fall back to a `Vec`).
+const STACK_DEGREE: usize = 7;
+
 /// de Boor's algorithm for degree `p` in span `k` of `knots` over control points `pts`.
 fn de_boor(p: usize, knots: &[f64], pts: &[DVec3], k: usize, t: f64) -> DVec3 {
-    let mut d: Vec<DVec3> = (0..=p).map(|j| pts[j + k - p]).collect();
+    let Some(src) = k.checked_sub(p).and_then(|first| pts.get(first..first + p + 1)) else {
+        return DVec3::ZERO;
+    };
+    if p <= STACK_DEGREE {
+        let mut d = [DVec3::ZERO; STACK_DEGREE + 1];
+        d[..=p].copy_from_slice(src);
+        de_boor_in_place(p, knots, k, t, &mut d[..=p])
+    } else {
+        de_boor_in_place(p, knots, k, t, &mut src.to_vec())
+    }
+}
+
+/// The de Boor triangle on `d` (the `p + 1` control points of span `k`), in place.
+#[inline(always)]
+fn de_boor_in_place(p: usize, knots: &[f64], k: usize, t: f64, d: &mut [DVec3]) -> DVec3 {
     for r in 1..=p {
         for j in (r..=p).rev() {
             let i = j + k - p;
-            let den = knots[i + p + 1 - r] - knots[i];
-            let alpha = if den > 0.0 { (t - knots[i]) / den } else { 0.0 };
+            let (ki, kr) = (knots[i], knots[i + p + 1 - r]);
+            let den = kr - ki;
+            let alpha = if den > 0.0 { (t - ki) / den } else { 0.0 };
             d[j] = d[j - 1] * (1.0 - alpha) + d[j] * alpha;
         }
     }
@@ -164,6 +182,7 @@ fn de_boor(p: usize, knots: &[f64], pts: &[DVec3], k: usize, t: f64) -> DVec3 {
 #[derive(Clone, Debug, PartialEq)]
 pub struct ArcLengthTable {
     params: Vec<f64>,
+    points: Vec<DVec3>,
     lengths: Vec<f64>,
 }
 
@@ -180,16 +199,20 @@ impl ArcLengthTable {
                 }
             }
         }
+        let points: Vec<DVec3> = params.iter().map(|&t| spline.point(t)).collect();
         let mut lengths = Vec::with_capacity(params.len());
         let mut acc = 0.0;
-        let mut prev = spline.point(a);
-        for &t in &params {
-            let q = spline.point(t);
+        let mut prev = points.first().copied().unwrap_or(DVec3::ZERO);
+        for &q in &points {
             acc += q.distance(prev);
             prev = q;
             lengths.push(acc);
         }
-        ArcLengthTable { params, lengths }
+        ArcLengthTable {
+            params,
+            points,
+            lengths,
+        }
     }
 
     /// Total arc length of the curve.
@@ -200,6 +223,11 @@ impl ArcLengthTable {
     /// Sample parameters, from the domain start to its end.
     pub fn params(&self) -> &[f64] {
         &self.params
+    }
+
+    /// The curve point at each sample parameter (same order as [`Self::params`]).
+    pub fn points(&self) -> &[DVec3] {
+        &self.points
     }
 
     /// The parameter at arc length `s` (clamped to `[0, total]`), interpolated between samples.

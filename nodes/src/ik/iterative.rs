@@ -57,6 +57,11 @@ impl Default for IterParams {
 /// `lengths[i]` is the distance from `positions[i]` to `positions[i + 1]`. Coincident
 /// joints keep the previous direction. Returns (iterations used, final distance to the
 /// goal). Does not special-case unreachable goals (the chain then converges to straight).
+///
+/// Two-bone chains with a reachable goal are placed in closed form instead: the middle joint
+/// goes where FABRIK converges to (the law of cosines, in the plane through the root, the
+/// goal and the current middle joint), because FABRIK crawls there when the goal is near
+/// the root of a nearly folded chain.
 pub fn fabrik_positions(
     positions: &mut [DVec3],
     lengths: &[f64],
@@ -71,6 +76,13 @@ pub fn fabrik_positions(
     }
     let root = positions[0];
     let mut err = positions[n - 1].distance(goal);
+    if n == 3 && err > tolerance {
+        if let Some(mid) = two_bone_middle(root, positions[1], goal, lengths[0], lengths[1]) {
+            positions[1] = mid;
+            positions[2] = place(goal, mid, lengths[1]);
+            return (1, positions[2].distance(goal));
+        }
+    }
     let mut it = 0;
     while err > tolerance && it < max_iterations {
         it += 1;
@@ -87,6 +99,22 @@ pub fn fabrik_positions(
         err = positions[n - 1].distance(goal);
     }
     (it, err)
+}
+
+/// Middle joint of a two-bone chain from `root` with the end on `goal`, bending towards
+/// `mid` (any perpendicular when `mid` is on the root–goal line); `None` when the goal is
+/// out of reach (further than `a + b`, or closer than `|a - b|`) or on the root.
+fn two_bone_middle(root: DVec3, mid: DVec3, goal: DVec3, a: f64, b: f64) -> Option<DVec3> {
+    let d = root.distance(goal);
+    if !(d > 0.0 && d <= a + b && d >= (a - b).abs()) {
+        return None;
+    }
+    let u = (goal - root) / d;
+    let off = mid - root;
+    let side = (off - u * off.dot(u)).try_normalize().unwrap_or_else(|| ortho(u));
+    let along = (a * a - b * b + d * d) / (2.0 * d);
+    let height = (a * a - along * along).max(0.0).sqrt();
+    Some(root + u * along + side * height)
 }
 
 /// The point at distance `len` from `anchor` towards `p` (or `p` itself if coincident).

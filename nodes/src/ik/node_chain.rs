@@ -250,8 +250,6 @@ pub(super) struct OutPose {
     pub translate: Vec<DVec3>,
     /// Per joint the stretch factor of the bone from it to the next joint.
     pub stretch: Vec<f64>,
-    /// World position of the last joint for this pose.
-    pub end_effector: DVec3,
     /// `status` code.
     pub status: i64,
     /// Human-readable status (static text for the common cases, so a frame
@@ -265,16 +263,13 @@ impl OutPose {
     pub fn rest(read: &ChainRead, err: &IkError) -> Self {
         let rotate: Vec<DVec3> = read.joints.iter().map(|j| finite_or_zero(j.preferred)).collect();
         let translate: Vec<DVec3> = read.joints.iter().map(|j| finite_or_zero(j.translate)).collect();
-        let mut pose = OutPose {
+        OutPose {
             stretch: vec![1.0; rotate.len()],
             rotate,
             translate,
-            end_effector: DVec3::ZERO,
             status: STATUS_INVALID,
             message: format!("invalid: {err}; outputs are the rest pose (preferredAngle)").into(),
-        };
-        pose.end_effector = pose.fk_end(read);
-        pose
+        }
     }
 
     /// The blended pose from a solution: per joint slerp from FK to IK by `ikBlend`,
@@ -330,21 +325,18 @@ impl OutPose {
             .into(),
             IkStatus::Invalid(e) => e.to_string().into(),
         };
-        let mut pose = OutPose {
+        OutPose {
             rotate,
             translate,
             stretch,
-            end_effector: DVec3::ZERO,
             status,
             message,
-        };
-        pose.end_effector = pose.fk_end(read);
-        pose
+        }
     }
 
     /// World position of the last joint when the joints take this pose (what connected
     /// `joint` nodes will show, up to rounding).
-    fn fk_end(&self, read: &ChainRead) -> DVec3 {
+    pub fn fk_end(&self, read: &ChainRead) -> DVec3 {
         let mut chain = read.chain();
         let mut rotations = Vec::with_capacity(chain.joints.len());
         for (i, j) in chain.joints.iter_mut().enumerate() {
@@ -359,7 +351,31 @@ impl OutPose {
     }
 }
 
+/// How a node's `error` output is defined.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum ErrorKind {
+    /// Distance from `endEffector` to the goal (ikRP, ikSC): computed with `endEffector`.
+    EndToGoal,
+    /// A value of the solve itself (ikSpline's overrun): computed with the pose.
+    FromSolve,
+}
+
+/// What `error` is for one compute: the goal (for [`ErrorKind::EndToGoal`]) or a value.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum ErrorValue {
+    /// The goal the end effector is measured against.
+    Goal(DVec3),
+    /// The error itself.
+    Value(f64),
+}
+
 /// Handles of the outputs every IK node declares.
+///
+/// Two compute groups: the pose (`outRotate`, `outTranslate`, `outStretch`, `status`,
+/// `statusMessage`) and the end effector (`endEffector`, plus `error` when it is measured
+/// from it). A compiled program that nobody reads `endEffector` from drops the second group,
+/// and with it a forward-kinematics pass per frame; when both are read the solve runs once
+/// per group.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct ChainOutputs {
     out_rotate: MultiOutput<DVec3>,
@@ -369,11 +385,14 @@ pub(super) struct ChainOutputs {
     status: Output<i64>,
     status_message: Output<Arc<str>>,
     error: Output<f64>,
+    error_kind: ErrorKind,
 }
 
 impl ChainOutputs {
-    /// Declares the chain outputs on `b`.
-    pub fn declare(b: &mut SpecBuilder) -> Self {
+    /// Declares the chain outputs on `b`, after every input, and their two groups (see the
+    /// type's doc).
+    pub fn declare(b: &mut SpecBuilder, error_kind: ErrorKind) -> Self {
+        let inputs = b.input_ids();
         let out_rotate = b.multi_output("outRotate", DVec3::ZERO);
         b.attr_doc(
             out_rotate,
@@ -404,6 +423,22 @@ impl ChainOutputs {
             error,
             "distance from endEffector to the goal (ikSpline: chain length past the curve end); -1 when invalid",
         );
+        let mut pose = vec![
+            out_rotate.id(),
+            out_translate.id(),
+            out_stretch.id(),
+            status.id(),
+            status_message.id(),
+        ];
+        let mut end = vec![end_effector.id()];
+        match error_kind {
+            ErrorKind::EndToGoal => end.push(error.id()),
+            ErrorKind::FromSolve => pose.push(error.id()),
+        }
+        b.affects(&inputs, &pose);
+        let mut end_inputs = inputs;
+        end_inputs.extend([out_rotate.id(), out_translate.id(), status.id()]);
+        b.affects(&end_inputs, &end);
         ChainOutputs {
             out_rotate,
             out_translate,
@@ -412,12 +447,33 @@ impl ChainOutputs {
             status,
             status_message,
             error,
+            error_kind,
         }
     }
 
-    /// Writes `pose` to the outputs. Output elements whose index names no joint get
-    /// zero rotation/translation and stretch 1. `error` is written as given.
-    pub fn write(&self, ctx: &mut ComputeContext<'_>, read: &ChainRead, pose: &OutPose, error: f64) {
+    /// Writes the outputs of the group `ctx` computes from `pose`. Output elements whose
+    /// index names no joint get zero rotation/translation and stretch 1. `error` is -1 when
+    /// the pose is invalid or the error is not finite.
+    pub fn write(&self, ctx: &mut ComputeContext<'_>, read: &ChainRead, pose: &OutPose, error: ErrorValue) {
+        let error_of = |end: DVec3| {
+            let e = match error {
+                ErrorValue::Goal(goal) => end.distance(goal),
+                ErrorValue::Value(v) => v,
+            };
+            if pose.status == STATUS_INVALID || !e.is_finite() {
+                -1.0
+            } else {
+                e
+            }
+        };
+        if ctx.wants(self.end_effector) {
+            let end = pose.fk_end(read);
+            ctx.set(self.end_effector, end);
+            if self.error_kind == ErrorKind::EndToGoal {
+                ctx.set(self.error, error_of(end));
+            }
+            return;
+        }
         let slot = |index: u32| read.joints.iter().position(|j| j.index == index);
         for k in 0..ctx.multi_out_len(self.out_rotate) {
             if let Some(index) = ctx.multi_out_index(self.out_rotate, k) {
@@ -437,17 +493,13 @@ impl ChainOutputs {
                 ctx.set_at(self.out_stretch, index, v);
             }
         }
-        ctx.set(self.end_effector, pose.end_effector);
         ctx.set(self.status, pose.status);
         // The message rarely changes: rewrite it (allocating) only when it does.
         if *ctx.get_output(self.status_message) != *pose.message {
             ctx.set(self.status_message, Arc::from(&*pose.message));
         }
-        let error = if pose.status == STATUS_INVALID || !error.is_finite() {
-            -1.0
-        } else {
-            error
-        };
-        ctx.set(self.error, error);
+        if self.error_kind == ErrorKind::FromSolve {
+            ctx.set(self.error, error_of(DVec3::ZERO));
+        }
     }
 }

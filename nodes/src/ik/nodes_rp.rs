@@ -5,7 +5,7 @@ use sinew_core::{ComputeContext, ComputeError, Input, NodeSpec, NodeType, SpecBu
 
 use super::chain::{Chain, IkError, IkSolution};
 use super::iterative::IterParams;
-use super::node_chain::{ChainInputs, ChainOutputs, ChainRead, OutPose};
+use super::node_chain::{ChainInputs, ChainOutputs, ChainRead, ErrorKind, ErrorValue, OutPose};
 use super::soft::ReachParams;
 use super::two_bone::{solve_rotate_plane, solve_two_bone, RpParams};
 
@@ -128,8 +128,7 @@ pub(super) fn solve_and_write(
         None => solve(&chain),
     };
     let pose = OutPose::blended(read, &sol, None);
-    let error = pose.end_effector.distance(goal.goal);
-    outputs.write(ctx, read, &pose, error);
+    outputs.write(ctx, read, &pose, ErrorValue::Goal(goal.goal));
 }
 
 /// `ikRP`: rotate-plane IK (Maya's ikRPsolver on an ikHandle, as one node).
@@ -169,7 +168,7 @@ impl IkRp {
             "rotation of the bend plane about the start-to-goal axis (degrees)",
         );
         b.unit(twist, Unit::Degrees);
-        let outputs = ChainOutputs::declare(&mut b);
+        let outputs = ChainOutputs::declare(&mut b, ErrorKind::EndToGoal);
         Ok(IkRp {
             spec: b.build()?,
             chain,

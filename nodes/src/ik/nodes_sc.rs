@@ -3,7 +3,7 @@
 use sinew_core::{ComputeContext, ComputeError, Input, NodeSpec, NodeType, SpecError};
 
 use super::iterative::{solve_sc, IterMethod};
-use super::node_chain::{ChainInputs, ChainOutputs};
+use super::node_chain::{ChainInputs, ChainOutputs, ErrorKind};
 use super::nodes_rp::{solve_and_write, GoalInputs};
 
 /// Choices of the `solver` enum, by index.
@@ -35,7 +35,7 @@ impl IkSc {
             solver,
             "fabrik (default: fast, no twist drift) or ccd (curls from the tip)",
         );
-        let outputs = ChainOutputs::declare(&mut b);
+        let outputs = ChainOutputs::declare(&mut b, ErrorKind::EndToGoal);
         Ok(IkSc {
             spec: b.build()?,
             chain,

@@ -5,7 +5,7 @@ use std::sync::Arc;
 use sinew_core::{ComputeContext, ComputeError, Curve, Input, NodeSpec, NodeType, SpecError, Unit};
 
 use super::chain::{IkError, IkSolution};
-use super::node_chain::{ChainInputs, ChainOutputs, OutPose};
+use super::node_chain::{ChainInputs, ChainOutputs, ErrorKind, ErrorValue, OutPose};
 use super::spline::{solve_spline, SplineParams};
 
 /// `ikSpline`: spline IK (Maya's ikSplineSolver on a spline ikHandle, as one node).
@@ -72,7 +72,7 @@ impl IkSpline {
             root_on_curve,
             "move the start joint onto the curve (outTranslate[0]); off: the curve moves to the joint",
         );
-        let outputs = ChainOutputs::declare(&mut b);
+        let outputs = ChainOutputs::declare(&mut b, ErrorKind::FromSolve);
         Ok(IkSpline {
             spec: b.build()?,
             chain,
@@ -132,8 +132,7 @@ impl NodeType for IkSpline {
             }
         };
         let pose = OutPose::blended(&read, &sol, root);
-        let error = if sol.error.is_finite() { sol.error } else { -1.0 };
-        self.outputs.write(ctx, &read, &pose, error);
+        self.outputs.write(ctx, &read, &pose, ErrorValue::Value(sol.error));
         Ok(())
     }
 }

@@ -210,23 +210,26 @@ pub fn solve_spline(chain: &Chain, curve: &Curve, params: &SplineParams) -> Spli
     }
 }
 
-/// First parameter after `t` whose curve point is exactly `len` from `from` (bisection
-/// between table samples); `None` if the curve ends (or, periodic, loops once) first.
+/// First parameter after `t` whose curve point is exactly `len` from `from`; `None` if the
+/// curve ends (or, periodic, loops once) first.
+///
+/// The table's stored sample points bracket the crossing (no curve evaluation), then
+/// [`chord_root`] pins it down.
 fn next_on_curve(spline: &BSpline, table: &ArcLengthTable, t: f64, from: DVec3, len: f64) -> Option<f64> {
     if len <= EPS {
         return Some(t);
     }
     let (a, b) = spline.domain();
     let period = b - a;
-    let samples = table.params();
     let (laps, base) = if spline.is_periodic() {
         (2, (t - a).div_euclid(period) * period)
     } else {
         (1, 0.0)
     };
     let mut lo = t;
+    let mut f_lo = -len;
     for lap in 0..laps {
-        for &s in samples {
+        for (&s, q) in table.params().iter().zip(table.points()) {
             let hi = s + base + lap as f64 * period;
             if hi <= lo {
                 continue;
@@ -234,25 +237,55 @@ fn next_on_curve(spline: &BSpline, table: &ArcLengthTable, t: f64, from: DVec3, 
             if hi > t + period {
                 return None;
             }
-            if spline.point(hi).distance(from) >= len {
-                let (mut x0, mut x1) = (lo, hi);
-                for _ in 0..200 {
-                    let mid = 0.5 * (x0 + x1);
-                    if mid <= x0 || mid >= x1 {
-                        break;
-                    }
-                    if spline.point(mid).distance(from) >= len {
-                        x1 = mid;
-                    } else {
-                        x0 = mid;
-                    }
-                }
-                return Some(x1);
+            let f_hi = q.distance(from) - len;
+            if f_hi >= 0.0 {
+                return Some(chord_root(spline, from, len, (lo, f_lo), (hi, f_hi)));
             }
-            lo = hi;
+            (lo, f_lo) = (hi, f_hi);
         }
     }
     None
+}
+
+/// A parameter in `[lo, hi]` where `|C(x) - from| = len`, given `f(lo) < 0 <= f(hi)` for
+/// `f(x) = |C(x) - from| - len`: Illinois (modified regula falsi), which keeps the bracket
+/// and converges superlinearly, falling back to bisection when a step leaves the bracket.
+/// Stops when `|f|` is within a few ulps of `len` or the bracket cannot shrink; returns
+/// the bracket end with `f >= 0` unless an interior point hit the tolerance.
+fn chord_root(spline: &BSpline, from: DVec3, len: f64, lo: (f64, f64), hi: (f64, f64)) -> f64 {
+    let tol = len * 4.0 * f64::EPSILON;
+    let ((mut x0, mut f0), (mut x1, mut f1)) = (lo, hi);
+    if f1 <= tol {
+        return x1;
+    }
+    let mut last_side = 0i8;
+    for _ in 0..200 {
+        let mut x = x1 - f1 * (x1 - x0) / (f1 - f0);
+        if !(x > x0 && x < x1) {
+            x = 0.5 * (x0 + x1);
+            if x <= x0 || x >= x1 {
+                break;
+            }
+        }
+        let fx = spline.point(x).distance(from) - len;
+        if fx.abs() <= tol {
+            return x;
+        }
+        if fx >= 0.0 {
+            (x1, f1) = (x, fx);
+            if last_side == 1 {
+                f0 *= 0.5;
+            }
+            last_side = 1;
+        } else {
+            (x0, f0) = (x, fx);
+            if last_side == -1 {
+                f1 *= 0.5;
+            }
+            last_side = -1;
+        }
+    }
+    x1
 }
 
 /// Places a joint `len` from `prev` past the end of an open curve, on the line through

@@ -167,10 +167,20 @@ pub fn euler_to_quat(r: DVec3, order: RotateOrder) -> DQuat {
 /// Rotation matrix (glam, column-vector) of euler angles `r` in `order`.
 ///
 /// Non-finite angles are treated as 0.
+///
+/// Axes whose angle is exactly 0 are skipped (their factor is the identity), so the common
+/// single-axis and zero rotations cost no trigonometry or products for the missing axes.
 pub fn euler_to_mat3(r: DVec3, order: RotateOrder) -> DMat3 {
     let r = finite_or_zero(r);
     let [i, j, k] = order.axes();
-    axis_mat3(k, r[k]) * axis_mat3(j, r[j]) * axis_mat3(i, r[i])
+    let mut m: Option<DMat3> = None;
+    for axis in [k, j, i] {
+        if r[axis] != 0.0 {
+            let a = axis_mat3(axis, r[axis]);
+            m = Some(m.map_or(a, |m| m * a));
+        }
+    }
+    m.unwrap_or(DMat3::IDENTITY)
 }
 
 /// [`euler_to_mat3`] as a homogeneous 4×4 matrix (no translation).

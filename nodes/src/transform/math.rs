@@ -132,26 +132,37 @@ impl TransformParams {
     /// `T * RT * RP * R * RA * RP⁻¹ * ST * SP * SH * S * SP⁻¹`.
     ///
     /// Non-finite components are replaced by identity values (module docs).
+    ///
+    /// Multiplied out (pivots are pure translations, `R` the rotation and `SS` shear times
+    /// scale), the product is the affine matrix with linear part `R·SS` and translation
+    /// `T + RT + RP + R·(ST + SP − RP − SS·SP)`, which is what is computed: two 3×3
+    /// products instead of eight 4×4 ones.
     pub fn local_matrix(&self) -> DMat4 {
-        let tr = |v: DVec3| DMat4::from_translation(finite_or_zero(v));
         let sp = finite_or_zero(self.scale_pivot);
         let rp = finite_or_zero(self.rotate_pivot);
-        let scale_shear = DMat4::from_mat3(shear_mat3(self.shear) * DMat3::from_diagonal(finite_or_one(self.scale)));
-        tr(self.translate)
-            * tr(self.rotate_pivot_translate)
-            * DMat4::from_translation(rp)
-            * DMat4::from_mat3(self.rotation_mat3())
-            * DMat4::from_translation(-rp)
-            * tr(self.scale_pivot_translate)
-            * DMat4::from_translation(sp)
-            * scale_shear
-            * DMat4::from_translation(-sp)
+        let scale = finite_or_one(self.scale);
+        let shear = finite_or_zero(self.shear);
+        let scale_shear = if shear == DVec3::ZERO {
+            DMat3::from_diagonal(scale)
+        } else {
+            shear_mat3(shear) * DMat3::from_diagonal(scale)
+        };
+        let rot = self.rotation_mat3();
+        let inner = finite_or_zero(self.scale_pivot_translate) + sp - rp - scale_shear * sp;
+        let translation =
+            finite_or_zero(self.translate) + finite_or_zero(self.rotate_pivot_translate) + rp + rot * inner;
+        DMat4::from_mat3_translation(rot * scale_shear, translation)
     }
 
     /// The node's rotation `RA` then `R` (Maya `RA·R`, glam `R * RA`) as a
     /// matrix.
     pub fn rotation_mat3(&self) -> DMat3 {
-        euler_to_mat3(self.rotate, self.rotate_order) * euler_to_mat3(self.rotate_axis, RotateOrder::Xyz)
+        let r = euler_to_mat3(self.rotate, self.rotate_order);
+        if finite_or_zero(self.rotate_axis) == DVec3::ZERO {
+            r
+        } else {
+            r * euler_to_mat3(self.rotate_axis, RotateOrder::Xyz)
+        }
     }
 
     /// The node's rotation `RA` then `R` (Maya `RA·R`, glam `R * RA`) as a
@@ -223,23 +234,32 @@ impl JointParams {
                 }
             };
             let s = self.inverse_scale;
-            DMat3::from_diagonal(DVec3::new(inv(s.x), inv(s.y), inv(s.z)))
+            DVec3::new(inv(s.x), inv(s.y), inv(s.z))
         } else {
-            DMat3::IDENTITY
+            DVec3::ONE
         };
+        // IS·Rot·S with the diagonal factors applied to rows and columns directly.
         let rot = self.rotation_mat3();
-        DMat4::from_mat3_translation(
-            is * rot * DMat3::from_diagonal(finite_or_one(self.scale)),
-            finite_or_zero(self.translate),
-        )
+        let scale = finite_or_one(self.scale);
+        let linear = DMat3::from_cols(
+            rot.x_axis * is * scale.x,
+            rot.y_axis * is * scale.y,
+            rot.z_axis * is * scale.z,
+        );
+        DMat4::from_mat3_translation(linear, finite_or_zero(self.translate))
     }
 
     /// The joint's rotation `RA`, `R`, then `JO` (Maya `RA·R·JO`, glam
     /// `JO * R * RA`) as a matrix.
     pub fn rotation_mat3(&self) -> DMat3 {
-        euler_to_mat3(self.joint_orient, RotateOrder::Xyz)
-            * euler_to_mat3(self.rotate, self.rotate_order)
-            * euler_to_mat3(self.rotate_axis, RotateOrder::Xyz)
+        let mut m = euler_to_mat3(self.rotate, self.rotate_order);
+        if finite_or_zero(self.joint_orient) != DVec3::ZERO {
+            m = euler_to_mat3(self.joint_orient, RotateOrder::Xyz) * m;
+        }
+        if finite_or_zero(self.rotate_axis) != DVec3::ZERO {
+            m *= euler_to_mat3(self.rotate_axis, RotateOrder::Xyz);
+        }
+        m
     }
 
     /// The joint's rotation `RA`, `R`, then `JO` (Maya `RA·R·JO`, glam

@@ -1,0 +1,52 @@
+//! Runs the example biped, compiled and pruned to its joints' world matrices (what an engine
+//! reads), for a number of frames: a target for profilers (`perf`, `valgrind --tool=callgrind`).
+//!
+//! Run: `cargo run --release --example biped_profile -- 2000`.
+
+use std::path::Path;
+use std::sync::Arc;
+use std::time::Instant;
+
+use sinew::prelude::*;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let frames: u64 = std::env::args().nth(1).map(|a| a.parse()).transpose()?.unwrap_or(2000);
+    let registry = default_registry()?;
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs/examples/biped/biped.ron");
+    let rig = sinew_core::load_rig(&path, &registry).map_err(|d| d.render())?;
+    let graph = rig.graph;
+    let joints: Vec<String> = graph
+        .nodes()
+        .into_iter()
+        .filter(|&id| graph.node_type(id) == Some("joint"))
+        .filter_map(|id| graph.node_name(id).map(|n| format!("{n}.worldMatrix")))
+        .collect();
+    let observed = joints.iter().map(|j| graph.plug(j)).collect::<Result<Vec<_>, _>>()?;
+    let options = CompileOptions {
+        observed: Some(observed),
+        ..Default::default()
+    };
+    let program = Arc::new(Program::compile(&graph, &options)?);
+    let handles = joints
+        .iter()
+        .map(|j| program.handle(j))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut inst = Instance::new(program.clone());
+    let start = Instant::now();
+    let mut checksum = 0.0;
+    for f in 0..frames {
+        inst.evaluate(Time::new((f % 48 + 1) as f64, 24.0))?;
+        for h in &handles {
+            if let Value::Matrix(m) = inst.get(h) {
+                checksum += m.w_axis.x;
+            }
+        }
+    }
+    let per = start.elapsed().as_secs_f64() / frames as f64;
+    println!(
+        "{} steps per frame, {:.2} µs per frame (checksum {checksum:.6})",
+        program.frame_step_count(),
+        per * 1e6
+    );
+    Ok(())
+}
