@@ -287,6 +287,11 @@ fn retargeted_bones_point_like_the_source() {
         .collect();
     let mut inst = Instance::new(program);
     let mut worst = 0.0f64;
+    // Heights are measured from the ground: the clip's lowest joint, and the lowest rest joint.
+    let ground = (0..bvh.frame_count)
+        .flat_map(|f| bvh.world_matrices(f).into_iter().map(|m| m.w_axis.y))
+        .fold(f64::INFINITY, f64::min);
+    let rest_low = rest.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
     for f in (0..bvh.frame_count).step_by(7) {
         inst.evaluate(Time::new(f as f64, report.fps)).unwrap();
         let sw = bvh.world_matrices(f);
@@ -314,8 +319,17 @@ fn retargeted_bones_point_like_the_source() {
         // Root motion scaled by the leg ratio.
         let hips = bvh.joint_index("Hips").unwrap();
         let kh = mapped.iter().position(|&m| m == hips).unwrap();
-        let want = (sw[hips].w_axis.truncate() - rest[hips]) * 1.7 + rest[hips] * 1.7;
+        let mut disp = sw[hips].w_axis.truncate() - rest[hips];
+        disp.y = (sw[hips].w_axis.y - ground) - (rest[hips].y - rest_low);
+        let want = disp * 1.7 + rest[hips] * 1.7;
         assert!((tw[kh].w_axis.truncate() - want).length() < 1e-6);
+        // Feet on the target's floor (its lowest rest joint): never below it by more than
+        // rounding, and touching it on some frame.
+        let low = tw.iter().map(|m| m.w_axis.y).fold(f64::INFINITY, f64::min);
+        assert!(
+            low >= rest_low * 1.7 - 1e-6,
+            "frame {f}: a joint at {low} is below the floor"
+        );
     }
     eprintln!("retarget: worst bone direction error {worst:.2e} rad");
     // The command: writes a glb.

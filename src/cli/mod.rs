@@ -133,6 +133,23 @@ enum Command {
         /// The glTF file to write.
         #[arg(short, long)]
         output: PathBuf,
+        /// Plant the feet: while a source foot touches the ground, hold the target ankle still
+        /// and solve hip, knee and ankle with two-bone IK (off by default).
+        #[arg(long)]
+        plant_feet: bool,
+        /// With --plant-feet: a foot touches the ground within this height above the clip's
+        /// lowest, in source leg lengths.
+        #[arg(long, default_value_t = 0.08)]
+        contact_height: f64,
+        /// With --plant-feet: ... and when slower than this horizontally, in source leg lengths per second.
+        #[arg(long, default_value_t = 0.3)]
+        contact_speed: f64,
+        /// With --plant-feet: contacts shorter than this many seconds are ignored.
+        #[arg(long, default_value_t = 0.1)]
+        min_contact: f64,
+        /// With --plant-feet: seconds to blend into and out of each contact.
+        #[arg(long, default_value_t = 0.1)]
+        plant_blend: f64,
     },
     /// Extract a skeleton and bone-heat skin weights from a mesh and write an editable rig.
     Skeletonize {
@@ -252,13 +269,34 @@ fn execute(cli: Cli) -> Result<(), String> {
             &output,
             &registry,
         )?),
-        Command::Retarget { mocap, to, map, output } => print(&retarget_cmd::retarget_cmd(
-            &mocap,
-            &to,
-            map.as_deref(),
-            &output,
-            &registry,
-        )?),
+        Command::Retarget {
+            mocap,
+            to,
+            map,
+            output,
+            plant_feet,
+            contact_height,
+            contact_speed,
+            min_contact,
+            plant_blend,
+        } => {
+            let opts = crate::io::retarget::RetargetOptions {
+                plant_feet,
+                contact_height,
+                contact_speed,
+                min_contact,
+                blend: plant_blend,
+                ..Default::default()
+            };
+            print(&retarget_cmd::retarget_cmd(
+                &mocap,
+                &to,
+                map.as_deref(),
+                &output,
+                &opts,
+                &registry,
+            )?)
+        }
         Command::Skeletonize {
             mesh,
             output,

@@ -1,5 +1,5 @@
 //! `sinew retarget`: drives a rig's skeleton from a BVH take (see
-//! [`crate::io::retarget`]) and bakes the result to glTF.
+//! [`crate::io::retarget`]), optionally planting the feet, and bakes the result to glTF.
 
 use std::path::Path;
 use std::sync::Arc;
@@ -10,7 +10,7 @@ use super::bake_cmd::write_scene;
 use super::rig_cmds::load;
 use crate::io::bake::{bake, BakeOptions};
 use crate::io::parse_bvh;
-use crate::io::retarget::{parse_map, retarget_bvh};
+use crate::io::retarget::{parse_map, retarget_with, RetargetOptions};
 
 /// Runs `sinew retarget`; returns the summary to print.
 pub fn retarget_cmd(
@@ -18,6 +18,7 @@ pub fn retarget_cmd(
     rig_path: &Path,
     map: Option<&Path>,
     out: &Path,
+    opts: &RetargetOptions,
     registry: &Arc<Registry>,
 ) -> Result<String, String> {
     let text = std::fs::read_to_string(mocap).map_err(|e| format!("cannot read {}: {e}", mocap.display()))?;
@@ -31,7 +32,7 @@ pub fn retarget_cmd(
     };
     let rig = load(rig_path, registry)?;
     let mut graph = rig.graph;
-    let report = retarget_bvh(&bvh, &mut graph, pairs.as_deref())?;
+    let report = retarget_with(&bvh, &mut graph, pairs.as_deref(), opts)?;
     let opts = BakeOptions {
         start: report.frames.0,
         end: report.frames.1,
@@ -51,6 +52,14 @@ pub fn retarget_cmd(
         report.fps,
         out.display()
     );
+    for foot in &report.feet {
+        msg.push_str(&format!(
+            "\n{} foot ({}): {} contacts planted",
+            foot.side,
+            foot.ankle,
+            foot.intervals.len()
+        ));
+    }
     for w in report.warnings.iter().chain(&warnings) {
         msg.push_str(&format!("\nwarning: {w}"));
     }

@@ -11,6 +11,8 @@ pub mod import_bvh;
 pub mod import_gltf;
 pub mod mesh_file;
 pub mod retarget;
+pub mod retarget_feet;
+mod retarget_map;
 pub mod rig_builder;
 pub mod runtime_view;
 pub mod scene;

@@ -20,183 +20,41 @@
 //!   `R = JO⁻¹ · Q · RA⁻¹`, in the node's `rotateOrder`.
 //! - **Root motion**: the target root (the node mapped from the source root) moves by the
 //!   source root's world displacement from rest times `leg ratio` = target leg length /
-//!   source leg length (hip→knee→ankle, left side; falling back to the ratio of root
-//!   heights above the lowest joint, then 1). World up and facing are assumed shared.
-//! - Not done: IK foot planting (feet may slide by the leg-ratio approximation error).
+//!   source leg length (hip→knee→ankle, left side; the target leg is the one mapped from
+//!   the source's, else found by name; falling back to the ratio of root heights above the
+//!   lowest joint, then 1). World up (+Y) and facing are assumed shared.
+//!   Heights are measured from the ground: each skeleton's rest pose stands on its lowest
+//!   rest joint, and the clip's ground is its lowest joint over all frames, so the
+//!   vertical displacement is `(root height above the clip's ground) − (rest root height
+//!   above the lowest rest joint)`. Motion capture stores absolute root positions while
+//!   the BVH rest pose puts the root at its offset; measuring from the ground keeps the
+//!   target's feet on its own floor.
+//!   The root's own parent may be animated by the rig: its world matrix is evaluated per
+//!   frame, so the root lands exactly where the scaled source motion puts it.
+//! - **Drivers**: curves replace whatever drove a retargeted `rotate` / root `translate`
+//!   before (e.g. the biped's leg IK and ankle orient constraints); each replacement is
+//!   reported as a warning (when the new connection fails, the old drivers are restored).
+//! - **Foot planting** (optional, [`RetargetOptions::plant_feet`], `--plant-feet`): the
+//!   leg ratio keeps feet roughly in place but not exactly, so feet slide. With planting,
+//!   source foot contacts are detected from ankle (and toe) height and speed, each target
+//!   ankle is held at one point per contact with blends in and out, and the hip, knee and
+//!   ankle keys come from a two-bone IK; see [`super::retarget_feet`].
 
 use std::collections::{HashMap, HashSet};
-use std::path::Path;
 use std::sync::Arc;
 
 use glam::{DMat4, DQuat, DVec3};
-use sinew_core::rig::parse::{parse, Ast};
-use sinew_core::{Graph, NodeId, Plug, Value};
+use sinew_core::{Graph, NodeId, Plug, Time, Value};
 use sinew_nodes::transform::dag_nodes::deg_to_rad;
 use sinew_nodes::transform::euler::euler_to_quat;
 
 use super::bake::dag_order;
 use super::bvh::Bvh;
+use super::retarget_feet::{plant_feet, PlantInput};
+pub use super::retarget_feet::{FootContacts, RetargetOptions};
+pub use super::retarget_map::{canonical, default_map, parse_map};
 
-/// Canonical humanoid joint names with aliases; `@` stands for `left`/`right`, `#` for
-/// `l`/`r` (all normalized: lowercase, no separators).
-const ALIASES: &[(&str, &[&str])] = &[
-    ("hips", &["hips", "pelvis", "hip"]),
-    ("spine", &["spine", "spine01", "lowerback"]),
-    ("spine1", &["spine1", "spine02", "chest"]),
-    ("spine2", &["spine2", "spine03", "upperchest"]),
-    ("neck", &["neck", "neck01"]),
-    ("head", &["head"]),
-    (
-        "@shoulder",
-        &["@shoulder", "clavicle#", "#clavicle", "#shoulder", "shoulder#"],
-    ),
-    (
-        "@arm",
-        &["@arm", "@upperarm", "upperarm#", "#upperarm", "#humerus", "#arm"],
-    ),
-    (
-        "@forearm",
-        &[
-            "@forearm",
-            "@lowerarm",
-            "lowerarm#",
-            "forearm#",
-            "#forearm",
-            "#radius",
-            "#elbow",
-        ],
-    ),
-    ("@hand", &["@hand", "hand#", "#hand", "#wrist"]),
-    (
-        "@upleg",
-        &[
-            "@upleg",
-            "@upperleg",
-            "@thigh",
-            "thigh#",
-            "#thigh",
-            "#femur",
-            "upperleg#",
-            "#upleg",
-        ],
-    ),
-    (
-        "@leg",
-        &[
-            "@leg",
-            "@lowerleg",
-            "@shin",
-            "calf#",
-            "#calf",
-            "shin#",
-            "#shin",
-            "#tibia",
-            "#knee",
-            "lowerleg#",
-        ],
-    ),
-    ("@foot", &["@foot", "foot#", "#foot", "#ankle"]),
-    (
-        "@toebase",
-        &["@toebase", "@toe", "ball#", "toe#", "#toe", "#toes", "#toebase"],
-    ),
-];
-
-fn normalize(name: &str) -> String {
-    let base = name.rsplit(':').next().unwrap_or(name);
-    base.chars()
-        .filter(|c| c.is_ascii_alphanumeric())
-        .map(|c| c.to_ascii_lowercase())
-        .collect()
-}
-
-/// The canonical humanoid name of a joint name (`"mixamorig:LeftUpLeg"` → `"leftupleg"`,
-/// `"thigh_r"` → `"rightupleg"`), or `None` when it is not a known humanoid joint.
-pub fn canonical(name: &str) -> Option<String> {
-    let n = normalize(name);
-    for (canon, aliases) in ALIASES {
-        for side in [("left", "l"), ("right", "r")] {
-            for a in *aliases {
-                let form = a.replace('@', side.0).replace('#', side.1);
-                if form == n {
-                    return Some(canon.replace('@', side.0));
-                }
-            }
-            if !canon.contains('@') {
-                break;
-            }
-        }
-    }
-    None
-}
-
-/// Parses a map file: a RON map of source joint name to target node name.
-pub fn parse_map(text: &str, path: &Path) -> Result<Vec<(String, String)>, String> {
-    let file: Arc<Path> = Arc::from(path);
-    let root =
-        parse(text, &file).map_err(|d| format!("{}:{}:{}: {}", path.display(), d.span.line, d.span.col, d.message))?;
-    let Ast::Map(entries) = root.kind else {
-        return Err(format!(
-            "{}: write the map as {{ \"SourceJoint\": \"targetNode\", .. }}",
-            path.display()
-        ));
-    };
-    let mut out = Vec::new();
-    for (k, v) in entries {
-        match (k.kind, v.kind) {
-            (Ast::Str { value: a, .. }, Ast::Str { value: b, .. }) => out.push((a, b)),
-            _ => {
-                return Err(format!(
-                    "{}:{}: keys and values must be strings",
-                    path.display(),
-                    k.span.line
-                ))
-            }
-        }
-    }
-    Ok(out)
-}
-
-/// The default map: first source and target joints whose names are equal after dropping
-/// namespaces, case and separators (`mixamorig:LeftArm` = `LeftArm`), then the remaining
-/// ones with the same [`canonical`] name.
-pub fn default_map(source: &[String], target: &[String]) -> Vec<(String, String)> {
-    let mut out = Vec::new();
-    let mut used_s = HashSet::new();
-    let mut used_t = HashSet::new();
-    for s in source {
-        if canonical(s).is_none() {
-            continue;
-        }
-        if let Some(t) = target
-            .iter()
-            .find(|t| normalize(t) == normalize(s) && !used_t.contains(*t))
-        {
-            used_s.insert(s.clone());
-            used_t.insert(t.clone());
-            out.push((s.clone(), t.clone()));
-        }
-    }
-    for s in source.iter().filter(|s| !used_s.contains(*s)) {
-        let Some(c) = canonical(s) else { continue };
-        let taken = out
-            .iter()
-            .any(|(a, _): &(String, String)| canonical(a).as_deref() == Some(c.as_str()));
-        if taken {
-            continue;
-        }
-        if let Some(t) = target
-            .iter()
-            .find(|t| !used_t.contains(*t) && canonical(t).as_deref() == Some(c.as_str()))
-        {
-            used_t.insert(t.clone());
-            out.push((s.clone(), t.clone()));
-        }
-    }
-    out
-}
-
-/// What [`retarget_bvh`] did.
+/// What [`retarget_with`] did.
 #[derive(Clone, Debug, Default)]
 pub struct RetargetReport {
     /// `(source joint, target node)` pairs used.
@@ -207,8 +65,10 @@ pub struct RetargetReport {
     pub fps: f64,
     /// Frame range of the motion.
     pub frames: (i64, i64),
-    /// Notes (skipped joints).
+    /// Notes (skipped joints, replaced drivers, feet not planted).
     pub warnings: Vec<String>,
+    /// With foot planting: the planted contacts per foot (empty without).
+    pub feet: Vec<FootContacts>,
 }
 
 fn rot(m: &DMat4) -> DQuat {
@@ -253,9 +113,47 @@ fn rest_worlds(g: &mut Graph, dag: &[NodeId]) -> Result<Vec<DMat4>, String> {
     Ok(w)
 }
 
+/// Connects `src` to `dst`, replacing any drivers of `dst` (and of its components).
+fn drive(g: &mut Graph, src: &str, dst: &str, warnings: &mut Vec<String>) {
+    let plugs = g.plug(src).and_then(|s| Ok((s, g.plug(dst)?)));
+    let Ok((s, d)) = plugs else {
+        warnings.push(format!("{dst} is not retargeted: no such plug"));
+        return;
+    };
+    let old: Vec<(Plug, Plug)> = g
+        .connections()
+        .into_iter()
+        .filter(|(_, o)| o.node == d.node && o.attr == d.attr && o.index == d.index)
+        .collect();
+    let old: Vec<(Plug, Plug)> = old.into_iter().filter(|(a, b)| g.disconnect(*a, *b).is_ok()).collect();
+    match g.connect(s, d) {
+        Ok(()) => {
+            for (a, b) in &old {
+                warnings.push(format!("{} no longer drives {}", g.plug_name(*a), g.plug_name(*b)));
+            }
+        }
+        Err(e) => {
+            warnings.push(format!("{dst} is not retargeted: {e}"));
+            for (a, b) in old {
+                let _ = g.connect(a, b);
+            }
+        }
+    }
+}
+
+/// [`retarget_with`] with the default options (no foot planting).
+pub fn retarget_bvh(bvh: &Bvh, target: &mut Graph, map: Option<&[(String, String)]>) -> Result<RetargetReport, String> {
+    retarget_with(bvh, target, map, &RetargetOptions::default())
+}
+
 /// Adds curves to `target` that make its skeleton follow `bvh` (see the module docs).
 /// `map` is `(source joint, target node)`; `None` uses [`default_map`].
-pub fn retarget_bvh(bvh: &Bvh, target: &mut Graph, map: Option<&[(String, String)]>) -> Result<RetargetReport, String> {
+pub fn retarget_with(
+    bvh: &Bvh,
+    target: &mut Graph,
+    map: Option<&[(String, String)]>,
+    opts: &RetargetOptions,
+) -> Result<RetargetReport, String> {
     if !(bvh.frame_time.is_finite() && bvh.frame_time > 0.0) || bvh.frame_count == 0 {
         return Err("the BVH has no frames or a non-positive Frame Time".into());
     }
@@ -316,10 +214,15 @@ pub fn retarget_bvh(bvh: &Bvh, target: &mut Graph, map: Option<&[(String, String
             .position(|n| canonical(n).as_deref() == Some(c))
             .map(|i| src_rest_pos[i])
     };
+    // Target leg joints: those mapped from the source's leg joints, else by their own names.
     let tgt_pos = |c: &str| {
-        tnames
-            .iter()
-            .position(|n| canonical(n).as_deref() == Some(c))
+        let mapped = (0..dag.len()).find(|t| {
+            src_of
+                .get(t)
+                .is_some_and(|&s| canonical(&snames[s]).as_deref() == Some(c))
+        });
+        mapped
+            .or_else(|| tnames.iter().position(|n| canonical(n).as_deref() == Some(c)))
             .map(|i| rest[i].w_axis.truncate())
     };
     let root_t = (0..dag.len())
@@ -361,12 +264,33 @@ pub fn retarget_bvh(bvh: &Bvh, target: &mut Graph, map: Option<&[(String, String
         .iter()
         .map(|&d| euler_to_quat(deg_to_rad(vec3(get(target, d, "rotateAxis"))), Default::default()))
         .collect();
-    let root_parent_world = parent[root_t].map_or(DMat4::IDENTITY, |p| rest[p]);
+    // Ground of the clip and rest heights above each skeleton's lowest rest joint.
+    let src_ground = (0..bvh.frame_count)
+        .flat_map(|f| bvh.world_matrices(f).into_iter().map(|m| m.w_axis.y))
+        .fold(f64::INFINITY, f64::min);
+    let src_rest_low = src_rest_pos.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
+    let src_rest_height = src_rest_pos[root_s].y - src_rest_low;
+    let time = target.time();
     for f in 0..bvh.frame_count {
+        // The root's parent as the rig animates it (rest when it has no parent).
+        let root_parent_world = match parent[root_t] {
+            Some(p) => {
+                target.set_time(Time::new(f as f64, report.fps));
+                match get(target, dag[p], "worldMatrix") {
+                    Some(Value::Matrix(m)) => m,
+                    _ => rest[p],
+                }
+            }
+            None => DMat4::IDENTITY,
+        };
         let sw = bvh.world_matrices(f);
         let mut world_rot = vec![DQuat::IDENTITY; n];
         for i in 0..n {
-            let prot = parent[i].map_or(DQuat::IDENTITY, |p| world_rot[p]);
+            let prot = match parent[i] {
+                Some(_) if i == root_t => rot(&root_parent_world),
+                Some(p) => world_rot[p],
+                None => DQuat::IDENTITY,
+            };
             world_rot[i] = match src_of.get(&i) {
                 Some(&s) => (rot(&sw[s]) * rot(&rest[i])).normalize(),
                 None => (prot * rest_local[i]).normalize(),
@@ -382,16 +306,22 @@ pub fn retarget_bvh(bvh: &Bvh, target: &mut Graph, map: Option<&[(String, String
                 rot_keys[i].extend_from_slice(&r.to_array());
             }
         }
-        let disp = (sw[root_s].w_axis.truncate() - src_rest_pos[root_s]) * report.scale;
+        let mut disp = sw[root_s].w_axis.truncate() - src_rest_pos[root_s];
+        if src_ground.is_finite() {
+            disp.y = (sw[root_s].w_axis.y - src_ground) - src_rest_height;
+        }
+        let disp = disp * report.scale;
         let world_pos = rest[root_t].w_axis.truncate() + disp;
         root_keys.extend_from_slice(&root_parent_world.inverse().transform_point3(world_pos).to_array());
     }
+    target.set_time(time);
     let times = Arc::new(
         (0..bvh.frame_count)
             .map(|f| (f as f64 * bvh.frame_time) as f32 as f64)
             .collect::<Vec<f64>>(),
     );
-    for (i, keys) in rot_keys.into_iter().enumerate() {
+    let mut curves: HashMap<usize, String> = HashMap::new();
+    for (i, keys) in rot_keys.iter().enumerate() {
         if keys.is_empty() {
             continue;
         }
@@ -402,7 +332,7 @@ pub fn retarget_bvh(bvh: &Bvh, target: &mut Graph, map: Option<&[(String, String
             .set_path(&format!("{crv}.keyTime"), Value::FloatArray(times.clone()))
             .map_err(|e| e.to_string())?;
         target
-            .set_path(&format!("{crv}.keyValue"), Value::FloatArray(Arc::new(keys)))
+            .set_path(&format!("{crv}.keyValue"), Value::FloatArray(Arc::new(keys.clone())))
             .map_err(|e| e.to_string())?;
         let order = get(target, dag[i], "rotateOrder")
             .and_then(|v| v.as_f64())
@@ -410,9 +340,13 @@ pub fn retarget_bvh(bvh: &Bvh, target: &mut Graph, map: Option<&[(String, String
         target
             .set_path(&format!("{crv}.rotateOrder"), Value::Enum(order))
             .map_err(|e| e.to_string())?;
-        if let Err(e) = target.connect_path(&format!("{crv}.outputRotate"), &format!("{node}.rotate")) {
-            report.warnings.push(format!("{node}.rotate is not retargeted: {e}"));
-        }
+        drive(
+            target,
+            &format!("{crv}.outputRotate"),
+            &format!("{node}.rotate"),
+            &mut report.warnings,
+        );
+        curves.insert(i, crv);
     }
     let node = tnames[root_t].clone();
     let crv = unique(target, &format!("{node}_retarget_translate"));
@@ -423,8 +357,32 @@ pub fn retarget_bvh(bvh: &Bvh, target: &mut Graph, map: Option<&[(String, String
     target
         .set_path(&format!("{crv}.keyValue"), Value::FloatArray(Arc::new(root_keys)))
         .map_err(|e| e.to_string())?;
-    if let Err(e) = target.connect_path(&format!("{crv}.output"), &format!("{node}.translate")) {
-        report.warnings.push(format!("{node}.translate is not retargeted: {e}"));
+    drive(
+        target,
+        &format!("{crv}.output"),
+        &format!("{node}.translate"),
+        &mut report.warnings,
+    );
+    if opts.plant_feet {
+        let input = PlantInput {
+            bvh,
+            dag: &dag,
+            parent: &parent,
+            src_of: &src_of,
+            jo: &jo,
+            ra: &ra,
+            fps: report.fps,
+        };
+        let (feet, changed) = plant_feet(target, &input, &mut rot_keys, opts, &mut report.warnings);
+        report.feet = feet;
+        for i in changed {
+            if let Some(crv) = curves.get(&i) {
+                let keys = Value::FloatArray(Arc::new(std::mem::take(&mut rot_keys[i])));
+                target
+                    .set_path(&format!("{crv}.keyValue"), keys)
+                    .map_err(|e| e.to_string())?;
+            }
+        }
     }
     Ok(report)
 }
