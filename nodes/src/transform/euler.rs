@@ -158,10 +158,19 @@ fn axis_quat(axis: usize, angle: f64) -> DQuat {
 /// Quaternion of euler angles `r` (radians, `r.x` about X …) in `order`.
 ///
 /// Non-finite angles are treated as 0. The result is unit length.
+///
+/// Axes whose angle is exactly 0 are skipped (their factor is the identity).
 pub fn euler_to_quat(r: DVec3, order: RotateOrder) -> DQuat {
     let r = finite_or_zero(r);
     let [i, j, k] = order.axes();
-    (axis_quat(k, r[k]) * axis_quat(j, r[j]) * axis_quat(i, r[i])).normalize()
+    let mut q: Option<DQuat> = None;
+    for axis in [k, j, i] {
+        if r[axis] != 0.0 {
+            let a = axis_quat(axis, r[axis]);
+            q = Some(q.map_or(a, |q| q * a));
+        }
+    }
+    q.map_or(DQuat::IDENTITY, DQuat::normalize)
 }
 
 /// Rotation matrix (glam, column-vector) of euler angles `r` in `order`.
@@ -205,20 +214,41 @@ fn at(m: &DMat3, r: usize, c: usize) -> f64 {
 fn extract(m: &DMat3, order: RotateOrder, gimbal_last: f64) -> DVec3 {
     let [i, j, k] = order.axes();
     let p = order.parity();
-    let cos_b = at(m, i, i).hypot(at(m, j, i));
-    let b = (-p * at(m, k, i)).atan2(cos_b);
-    let c = if cos_b > GIMBAL_EPS {
-        (p * at(m, j, i)).atan2(at(m, i, i))
+    let (m_ii, m_ji, m_ki) = (at(m, i, i), at(m, j, i), at(m, k, i));
+    let cos_b = m_ii.hypot(m_ji);
+    let b = (-p * m_ki).atan2(cos_b);
+    // cos/sin of c and b straight from the entries they were read from (no trigonometry).
+    let (c, cc, sc) = if cos_b > GIMBAL_EPS {
+        ((p * m_ji).atan2(m_ii), m_ii / cos_b, p * m_ji / cos_b)
     } else {
-        gimbal_last
+        let (s, c) = gimbal_last.sin_cos();
+        (gimbal_last, c, s)
     };
-    let n = axis_mat3(j, -b) * axis_mat3(k, -c) * *m;
-    let a = (p * at(&n, k, j)).atan2(at(&n, j, j));
+    let r = cos_b.hypot(m_ki);
+    let (cb, sb) = if r > 0.0 {
+        (cos_b / r, -p * m_ki / r)
+    } else {
+        (1.0, 0.0)
+    };
+    // Column j of N = Rj(-b)·Rk(-c)·M; a is read from its entries j and k.
+    let col_j = m.col(j);
+    let n_j = rotate_about(rotate_about(col_j, k, cc, -sc), j, cb, -sb);
+    let a = (p * n_j[k]).atan2(n_j[j]);
     let mut out = DVec3::ZERO;
     out[i] = a;
     out[j] = b;
     out[k] = c;
     finite_or_zero(out)
+}
+
+/// `v` rotated about coordinate axis `axis` by the angle with cosine `c` and sine `s`.
+#[inline]
+fn rotate_about(v: DVec3, axis: usize, c: f64, s: f64) -> DVec3 {
+    let (e1, e2) = ((axis + 1) % 3, (axis + 2) % 3);
+    let mut out = v;
+    out[e1] = c * v[e1] - s * v[e2];
+    out[e2] = s * v[e1] + c * v[e2];
+    out
 }
 
 /// The other euler triple giving the same rotation: first and last angles
