@@ -47,6 +47,8 @@ pub mod pose_reader_node;
 pub mod primitives;
 pub mod skin_cluster;
 pub mod skinning;
+mod skinning_avx2;
+mod skinning_lbs;
 pub mod surface;
 pub mod weights;
 

@@ -27,16 +27,28 @@
 //! cofactor of the blended stretch when joints carry scale).
 //!
 //! Summation order: LBS sums influences in row order, except rows of exactly four influences
-//! (the common game-engine case), which take an unrolled, branch-free path summing in pairs
-//! `(m₀w₀ + m₁w₁) + (m₂w₂ + m₃w₃)`. The blended matrix is applied in glam's order, so a single
-//! influence of weight 1 gives exactly `Mat4::transform_point3`.
+//! (the common game-engine case), which sum in pairs `(m₀w₀ + m₁w₁) + (m₂w₂ + m₃w₃)`. The
+//! blended matrix is applied in glam's order `((c₀x + c₁y) + c₂z) + c₃`, so a single influence
+//! of weight 1 gives exactly `Mat4::transform_point3`. Normals: `((b×c)nₓ + (c×a)n_y) +
+//! (a×b)n_z`, then `n · (1 / √((nₓ² + n_y²) + n_z²))` with a correctly rounded square root and
+//! division (no reciprocal estimate).
 //!
-//! Determinism: serial and parallel variants run the same per-vertex code, so their results
-//! are bit-identical; the parallel one splits the vertices into chunks of [`CHUNK`]. On
-//! x86-64 the kernels are also compiled with AVX2 enabled and chosen at run time; no fused
-//! multiply-add is used, so the AVX2 and baseline builds give bit-identical results too.
+//! LBS kernel (`skinning_lbs`, `skinning_avx2`): a chunk whose rows all hold exactly four
+//! influences stored back to back (one vectorizable check of the offsets) skips the
+//! per-vertex row lookup. On x86-64 CPUs with AVX2 an explicit-intrinsics kernel is chosen at
+//! run time: a palette matrix is two 256-bit registers, eight vertices' influences are
+//! validated at once (falling back to per-vertex checks for a group holding any invalid,
+//! negative or all-zero influence), and normals are normalized 64 at a time, 8 lanes per
+//! vector square root and division. Other CPUs run the portable kernel.
+//!
+//! Determinism: serial and parallel variants run the same per-vertex arithmetic, so their
+//! results are bit-identical; the parallel one splits the vertices into chunks of [`CHUNK`].
+//! The AVX2 LBS kernel performs exactly the IEEE operations of the portable one, in the same
+//! order and without fused multiply-add, so every CPU gives bit-identical results; the DQS
+//! kernels are compiled a second time with AVX2 enabled (no FMA either).
 
 use super::dual_quat::{DqJoint, DqPalette, DualQuat};
+use super::skinning_lbs::{cofactor_transform, lbs_matrix, Lbs};
 use glam::{Mat3A, Mat4, Vec3, Vec3A, Vec4};
 use rayon::prelude::*;
 use sinew_core::data::Weights;
@@ -148,12 +160,7 @@ pub fn linear_blend(input: &SkinInput<'_>, out: SkinOutput<'_>) -> Result<(), Sk
 
 /// Everything one chunk needs, borrowed for the duration of a call.
 struct Kernel<'a> {
-    positions: &'a [Vec3],
-    normals: &'a [Vec3],
-    offsets: &'a [u32],
-    joints: &'a [u32],
-    weights: &'a [f32],
-    palette: &'a [Mat4],
+    lbs: Lbs<'a>,
     dq: &'a [DqJoint],
     has_stretch: bool,
     method: SkinMethod<'a>,
@@ -182,12 +189,14 @@ impl<'a> Kernel<'a> {
         }
         check_len("output normals", out.normals.len(), input.normals.len())?;
         Ok(Kernel {
-            positions: input.positions,
-            normals: input.normals,
-            offsets: &input.weights.offsets,
-            joints: &input.weights.joints,
-            weights: &input.weights.weights,
-            palette: input.palette,
+            lbs: Lbs {
+                positions: input.positions,
+                normals: input.normals,
+                offsets: &input.weights.offsets,
+                joints: &input.weights.joints,
+                weights: &input.weights.weights,
+                palette: input.palette,
+            },
             dq: &[],
             has_stretch: false,
             method: SkinMethod::Linear,
@@ -210,19 +219,6 @@ impl<'a> Kernel<'a> {
         Ok(k)
     }
 
-    /// The valid influences of vertex `v` (empty for a broken row).
-    #[inline(always)]
-    fn row(&self, v: usize) -> (&'a [u32], &'a [f32]) {
-        let (Some(&a), Some(&b)) = (self.offsets.get(v), self.offsets.get(v + 1)) else {
-            return (&[], &[]);
-        };
-        let r = a as usize..b as usize;
-        match (self.joints.get(r.clone()), self.weights.get(r)) {
-            (Some(j), Some(w)) => (j, w),
-            _ => (&[], &[]),
-        }
-    }
-
     /// Deforms vertices `start..start + out_p.len()`; `out_n` is empty or as long as `out_p`.
     ///
     /// On x86-64 CPUs with AVX2 the same code is compiled a second time with AVX2 enabled
@@ -230,6 +226,9 @@ impl<'a> Kernel<'a> {
     /// encoding differs: no fused multiply-add is enabled, so every IEEE operation and its
     /// rounding is the same and results are bit-identical on every x86-64 CPU.
     fn run(&self, start: usize, out_p: &mut [Vec3], out_n: &mut [Vec3]) {
+        if matches!(self.method, SkinMethod::Linear) {
+            return self.lbs.run(start, out_p, out_n);
+        }
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: `run_avx2` only requires AVX2, which the CPU was just checked to have.
@@ -249,8 +248,7 @@ impl<'a> Kernel<'a> {
     fn run_generic(&self, start: usize, out_p: &mut [Vec3], out_n: &mut [Vec3]) {
         let with_normals = !out_n.is_empty();
         match (self.method, with_normals) {
-            (SkinMethod::Linear, false) => self.lbs_loop::<false>(start, out_p, out_n),
-            (SkinMethod::Linear, true) => self.lbs_loop::<true>(start, out_p, out_n),
+            (SkinMethod::Linear, _) => self.lbs.run_generic(start, out_p, out_n),
             (SkinMethod::DualQuaternion, false) => self.mixed_loop::<false>(start, out_p, out_n, None),
             (SkinMethod::DualQuaternion, true) => self.mixed_loop::<true>(start, out_p, out_n, None),
             (SkinMethod::WeightBlended(b), false) => self.mixed_loop::<false>(start, out_p, out_n, Some(b)),
@@ -259,41 +257,16 @@ impl<'a> Kernel<'a> {
     }
 
     #[inline(always)]
-    fn lbs_loop<const N: bool>(&self, start: usize, out_p: &mut [Vec3], out_n: &mut [Vec3]) {
-        for (i, p_out) in out_p.iter_mut().enumerate() {
-            let v = start + i;
-            let rest = self.positions.get(v).copied().unwrap_or(Vec3::ZERO);
-            let (js, ws) = self.row(v);
-            let Some(m) = lbs_matrix(js, ws, self.palette) else {
-                *p_out = rest;
-                if N {
-                    if let (Some(o), Some(n)) = (out_n.get_mut(i), self.normals.get(v)) {
-                        *o = *n;
-                    }
-                }
-                continue;
-            };
-            let p = Vec4::from((rest, 1.0));
-            *p_out = (m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3]).truncate();
-            if N {
-                if let (Some(o), Some(&n)) = (out_n.get_mut(i), self.normals.get(v)) {
-                    *o = cofactor_transform(&m, n.into()).try_normalize().map_or(n, Vec3::from);
-                }
-            }
-        }
-    }
-
-    #[inline(always)]
     fn mixed_loop<const N: bool>(&self, start: usize, out_p: &mut [Vec3], out_n: &mut [Vec3], blend: Option<&[f32]>) {
         for (i, p_out) in out_p.iter_mut().enumerate() {
             let v = start + i;
-            let rest = self.positions.get(v).copied().unwrap_or(Vec3::ZERO);
+            let rest = self.lbs.positions.get(v).copied().unwrap_or(Vec3::ZERO);
             let rest_n = if N {
-                self.normals.get(v).copied().unwrap_or(Vec3::Y)
+                self.lbs.normals.get(v).copied().unwrap_or(Vec3::Y)
             } else {
                 Vec3::Y
             };
-            let (js, ws) = self.row(v);
+            let (js, ws) = self.lbs.row(v);
             let (mut p, mut n) = match self.dqs_vertex::<N>(js, ws, rest.into(), rest_n.into()) {
                 Some(pn) => pn,
                 None => (rest.into(), rest_n.into()),
@@ -302,7 +275,7 @@ impl<'a> Kernel<'a> {
                 let b = bw.get(v).copied().unwrap_or(0.0);
                 let b = if b.is_nan() { 0.0 } else { b.clamp(0.0, 1.0) };
                 if b < 1.0 {
-                    let (lp, ln) = match lbs_matrix(js, ws, self.palette) {
+                    let (lp, ln) = match lbs_matrix(js, ws, self.lbs.palette) {
                         Some(m) => {
                             let q = Vec4::from((rest, 1.0));
                             let lp = Vec3A::from_vec4(m[0] * q.x + m[1] * q.y + m[2] * q.z + m[3]);
@@ -365,67 +338,6 @@ impl<'a> Kernel<'a> {
     }
 }
 
-/// `Σ wᵢ Mᵢ` over the valid influences as four columns; `None` when the weights sum to 0.
-///
-/// Rows of exactly four influences take a branch-free, unrolled path that sums in pairs
-/// (`(m₀w₀ + m₁w₁) + (m₂w₂ + m₃w₃)`), halving the dependency chain; other rows sum in order.
-#[inline(always)]
-fn lbs_matrix(js: &[u32], ws: &[f32], palette: &[Mat4]) -> Option<[Vec4; 4]> {
-    match (<&[u32; 4]>::try_from(js), <&[f32; 4]>::try_from(ws)) {
-        (Ok(j4), Ok(w4)) => blend4(j4, w4, palette),
-        _ => blend_matrix(js, ws, palette),
-    }
-}
-
-/// The four-influence fast path of [`lbs_matrix`]; invalid influences become `0 · ZERO`.
-#[inline(always)]
-fn blend4(js: &[u32; 4], ws: &[f32; 4], palette: &[Mat4]) -> Option<[Vec4; 4]> {
-    const ZERO: Mat4 = Mat4::ZERO;
-    let pick = |k: usize| match palette.get(js[k] as usize) {
-        Some(m) if ws[k].is_finite() => (m, ws[k]),
-        _ => (&ZERO, 0.0),
-    };
-    let ((m0, w0), (m1, w1), (m2, w2), (m3, w3)) = (pick(0), pick(1), pick(2), pick(3));
-    let col = |a: Vec4, b: Vec4, c: Vec4, d: Vec4| (a * w0 + b * w1) + (c * w2 + d * w3);
-    let sum = (w0 + w1) + (w2 + w3);
-    (sum != 0.0).then(|| {
-        [
-            col(m0.x_axis, m1.x_axis, m2.x_axis, m3.x_axis),
-            col(m0.y_axis, m1.y_axis, m2.y_axis, m3.y_axis),
-            col(m0.z_axis, m1.z_axis, m2.z_axis, m3.z_axis),
-            col(m0.w_axis, m1.w_axis, m2.w_axis, m3.w_axis),
-        ]
-    })
-}
-
-/// General path of [`lbs_matrix`]: any number of influences, summed in order.
-#[inline(always)]
-fn blend_matrix(js: &[u32], ws: &[f32], palette: &[Mat4]) -> Option<[Vec4; 4]> {
-    let mut c = [Vec4::ZERO; 4];
-    let mut sum = 0.0f32;
-    for (&j, &w) in js.iter().zip(ws) {
-        let Some(m) = palette.get(j as usize) else {
-            continue;
-        };
-        if !w.is_finite() {
-            continue;
-        }
-        c[0] += m.x_axis * w;
-        c[1] += m.y_axis * w;
-        c[2] += m.z_axis * w;
-        c[3] += m.w_axis * w;
-        sum += w;
-    }
-    (sum != 0.0).then_some(c)
-}
-
-/// Cofactor (adjugate transpose) of the upper 3×3 of `m` applied to `n`.
-#[inline(always)]
-fn cofactor_transform(m: &[Vec4; 4], n: Vec3A) -> Vec3A {
-    let (a, b, c) = (Vec3A::from_vec4(m[0]), Vec3A::from_vec4(m[1]), Vec3A::from_vec4(m[2]));
-    b.cross(c) * n.x + c.cross(a) * n.y + a.cross(b) * n.z
-}
-
 /// Cofactor matrix of a 3×3 (columns `b×c, c×a, a×b`).
 #[inline(always)]
 fn cofactor3(m: &Mat3A) -> Mat3A {
@@ -443,7 +355,18 @@ mod tests {
     /// The AVX2 build and the baseline build must agree bit for bit (no FMA contraction).
     #[test]
     fn avx2_and_generic_builds_agree_bitwise() {
-        let (mesh, w, palette) = super::super::tests::random_rig(3000, 24, 11);
+        let (mesh, mut w, palette) = super::super::tests::random_rig(3000, 24, 11);
+        // Rows of 1..=6 influences; break some: out-of-range joints, NaN, ∞ and zero weights.
+        for (i, (j, x)) in w.joints.iter_mut().zip(w.weights.iter_mut()).enumerate() {
+            match i % 23 {
+                3 => *j = 24,
+                7 => *j = u32::MAX,
+                11 => *x = f32::NAN,
+                15 => *x = f32::NEG_INFINITY,
+                19 => *x = 0.0,
+                _ => {}
+            }
+        }
         let blend: Vec<f32> = (0..3000).map(|i| (i % 7) as f32 / 6.0).collect();
         let input = SkinInput {
             positions: &mesh.positions,

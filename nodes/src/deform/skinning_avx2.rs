@@ -1,0 +1,480 @@
+//! AVX2 linear blend skinning kernel (x86-64 only), chosen at run time by
+//! [`super::skinning_lbs::Lbs::run`].
+//!
+//! A palette matrix is two 256-bit registers (columns `x|y` and `z|w`), so blending four
+//! influences is 8 multiplies and 6 adds. With uniform four-influence rows, eight vertices
+//! (32 influences) are validated at once: when every joint indexes the palette, every weight
+//! is finite and `≥ 0` and every row has a positive weight, the joints index the palette
+//! directly with no per-vertex test. Otherwise each vertex of the group is validated on its
+//! own: invalid influences point at a zero matrix with weight 0, exactly as
+//! [`super::skinning_lbs::blend4`] does. Normals are normalized 64 vertices at a time
+//! after the blend, 8 lanes per vector square root and division, so their long latency
+//! stays off the per-vertex path.
+//!
+//! Every operation is the lane-wise twin of the portable code (same operands, same order,
+//! no fused multiply-add), so results are bit-identical to
+//! [`super::skinning_lbs::Lbs::run_generic`].
+#![cfg(target_arch = "x86_64")]
+
+use super::skinning_lbs::{blend_matrix, Lbs};
+use core::arch::x86_64::*;
+use glam::{Mat4, Vec3, Vec4};
+
+/// The matrix the invalid influences of a four-influence row point at.
+static ZERO: Mat4 = Mat4::ZERO;
+
+/// Deforms vertices `start..start + out_p.len()` (see [`Lbs::run`]).
+///
+/// # Safety
+/// The CPU must support AVX2.
+#[target_feature(enable = "avx2")]
+pub(super) unsafe fn run(k: &Lbs<'_>, start: usize, out_p: &mut [Vec3], out_n: &mut [Vec3]) {
+    let count = out_p.len();
+    let end = start.saturating_add(count);
+    let pos = k.positions.get(start..end);
+    let nrm = k.normals.get(start..end);
+    let Some(pos) = pos.filter(|_| k.palette.len() <= MAX_JOINTS) else {
+        return k.run_generic(start, out_p, out_n);
+    };
+    let uniform = k.uniform4(start, count);
+    let pal = Palette {
+        base: k.palette.as_ptr(),
+        len_x: _mm256_set1_epi32((k.palette.len() as u32 ^ SIGN) as i32),
+    };
+    let ctx = Ctx { k, pal, start, pos };
+    match (out_n.is_empty(), nrm, uniform) {
+        (true, _, Some((j, w))) => ctx.drive::<false, true>(out_p, &mut [], &[], j, w),
+        (true, _, None) => ctx.drive::<false, false>(out_p, &mut [], &[], &[], &[]),
+        (false, Some(n), Some((j, w))) if out_n.len() == count => ctx.drive::<true, true>(out_p, out_n, n, j, w),
+        (false, Some(n), None) if out_n.len() == count => ctx.drive::<true, false>(out_p, out_n, n, &[], &[]),
+        _ => k.run_generic(start, out_p, out_n),
+    }
+}
+
+const SIGN: u32 = 0x8000_0000;
+
+/// Largest palette the kernel takes (bigger ones use the portable kernel): lengths must
+/// compare as unsigned 32-bit lanes.
+const MAX_JOINTS: usize = 1 << 31;
+
+/// The palette base and its length with the sign bit flipped (for an unsigned compare).
+#[derive(Clone, Copy)]
+struct Palette {
+    base: *const Mat4,
+    len_x: __m256i,
+}
+
+/// One chunk's inputs: `pos` is `positions[start..start + count]`.
+struct Ctx<'a, 'b> {
+    k: &'b Lbs<'a>,
+    pal: Palette,
+    start: usize,
+    pos: &'a [Vec3],
+}
+
+impl Ctx<'_, '_> {
+    /// The main loop. `N`: with normals (`nrm` and `out_n` as long as `out_p`); `U`: uniform
+    /// rows, `js`/`ws` hold `4 · count` entries (else rows are looked up per vertex).
+    ///
+    /// # Safety
+    /// AVX2; `self.pos.len() == out_p.len()`, the other slices as described.
+    #[target_feature(enable = "avx2")]
+    unsafe fn drive<const N: bool, const U: bool>(
+        &self,
+        out_p: &mut [Vec3],
+        out_n: &mut [Vec3],
+        nrm: &[Vec3],
+        js: &[u32],
+        ws: &[f32],
+    ) {
+        let count = out_p.len();
+        debug_assert!(self.pos.len() == count && (!U || (js.len() == 4 * count && ws.len() == 4 * count)));
+        debug_assert!(!N || (nrm.len() == count && out_n.len() == count));
+        let io = Io {
+            out_p: out_p.as_mut_ptr(),
+            out_n: out_n.as_mut_ptr(),
+            nrm: nrm.as_ptr(),
+            js: js.as_ptr(),
+            ws: ws.as_ptr(),
+            count,
+        };
+        let mut buf = Block {
+            u: [_mm_setzero_ps(); BLOCK],
+            d: [1.0; BLOCK],
+            r: [0.0; BLOCK],
+        };
+        let mut b0 = 0;
+        while b0 < count {
+            let n = BLOCK.min(count - b0);
+            // SAFETY: b0 + n ≤ count.
+            let has = self.span::<N, U>(&io, &mut buf, b0, n);
+            if N {
+                // SAFETY: as above.
+                normalize_block(&io, &mut buf, b0, n, has);
+            }
+            b0 += BLOCK;
+        }
+    }
+
+    /// Deforms the positions of chunk vertices `b0..b0 + n`; with `N` also fills `buf.u`
+    /// and `buf.d` with the unnormalized normals and their squared lengths. Returns a bit
+    /// per vertex: set when it was deformed (clear: copied from the rest pose).
+    ///
+    /// # Safety
+    /// AVX2; `n ≤ BLOCK`, `b0 + n ≤ count`; the slices of `io` as in [`Ctx::drive`].
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    unsafe fn span<const N: bool, const U: bool>(&self, io: &Io, buf: &mut Block, b0: usize, n: usize) -> u64 {
+        let mut has = 0u64;
+        let mut l = 0;
+        if U {
+            while l + 8 <= n {
+                let v = b0 + l;
+                // SAFETY: rows v..v + 8 are within the 4 · count entries.
+                if check8(self.pal, io.js.add(4 * v), io.ws.add(4 * v)) {
+                    let base = self.pal.base as *const u8;
+                    for k in 0..8 {
+                        // Joints reloaded as scalars: reading them back from a vector store
+                        // would stall on store-to-load forwarding.
+                        let o = io.js.add(4 * (v + k));
+                        // SAFETY: `check8` proved every joint < palette length.
+                        let m = [
+                            base.add((*o as usize) << 6) as *const f32,
+                            base.add((*o.add(1) as usize) << 6) as *const f32,
+                            base.add((*o.add(2) as usize) << 6) as *const f32,
+                            base.add((*o.add(3) as usize) << 6) as *const f32,
+                        ];
+                        let (ab, cw) = blend_ptrs(m, io.ws.add(4 * (v + k)));
+                        self.emit::<N>(io, buf, v + k, l + k, ab, cw);
+                    }
+                    has |= 0xff << l;
+                } else {
+                    for k in 0..8 {
+                        has |= self.careful::<N, U>(io, buf, v + k, l + k) << (l + k);
+                    }
+                }
+                l += 8;
+            }
+        }
+        while l < n {
+            has |= self.careful::<N, U>(io, buf, b0 + l, l) << l;
+            l += 1;
+        }
+        has
+    }
+
+    /// One vertex with its own influence checks ([`Ctx::matrix`]); 1 when deformed.
+    ///
+    /// # Safety
+    /// AVX2; `v < count`, `l < BLOCK`; the slices of `io` as in [`Ctx::drive`].
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    unsafe fn careful<const N: bool, const U: bool>(&self, io: &Io, buf: &mut Block, v: usize, l: usize) -> u64 {
+        match self.matrix::<U>(io, v) {
+            Some((ab, cw)) => {
+                self.emit::<N>(io, buf, v, l, ab, cw);
+                1
+            }
+            None => {
+                // SAFETY: v < count = pos.len() = out_p.len().
+                *io.out_p.add(v) = *self.pos.as_ptr().add(v);
+                buf.d[l] = 1.0;
+                0
+            }
+        }
+    }
+
+    /// Stores vertex `v` transformed by the blended matrix; with `N`, its unnormalized
+    /// normal and squared length go to slot `l` of `buf`.
+    ///
+    /// # Safety
+    /// AVX2; `v < count`, `l < BLOCK`; the slices of `io` as in [`Ctx::drive`].
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    unsafe fn emit<const N: bool>(&self, io: &Io, buf: &mut Block, v: usize, l: usize, ab: __m256, cw: __m256) {
+        // SAFETY: v < count = pos.len() = out_p.len() (= nrm.len() with N).
+        store3(
+            io.out_p.add(v),
+            transform(ab, cw, self.pos.as_ptr().add(v)),
+            v + 1 < io.count,
+        );
+        if N {
+            let u = cofactor(ab, cw, io.nrm.add(v));
+            buf.u[l] = u;
+            _mm_store_ss(&mut buf.d[l], len2(u));
+        }
+    }
+
+    /// The blended matrix (columns `x|y`, `z|w`) of chunk vertex `i`, `None` for the rest pose.
+    ///
+    /// # Safety
+    /// AVX2; `i < count`; with `U`, `io.js`/`io.ws` hold `4 · count` entries.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    unsafe fn matrix<const U: bool>(&self, io: &Io, i: usize) -> Option<(__m256, __m256)> {
+        if U {
+            // SAFETY: 4i + 3 < 4 · count entries.
+            return blend4(self.pal, io.js.add(4 * i), io.ws.add(4 * i));
+        }
+        let (js, ws) = self.k.row(self.start + i);
+        if js.len() == 4 && ws.len() == 4 {
+            // SAFETY: both slices hold four entries.
+            return blend4(self.pal, js.as_ptr(), ws.as_ptr());
+        }
+        let m = general_row(js, ws, self.k.palette)?;
+        let f = m.as_ptr() as *const f32;
+        // SAFETY: `[Vec4; 4]` is 16 contiguous `f32`.
+        Some((_mm256_loadu_ps(f), _mm256_loadu_ps(f.add(8))))
+    }
+}
+
+/// Vertices per normalization block (a multiple of 8, at most 64: bit masks are `u64`).
+const BLOCK: usize = 64;
+
+/// Per-block scratch on the stack: unnormalized normals, squared lengths, reciprocals.
+struct Block {
+    u: [__m128; BLOCK],
+    d: [f32; BLOCK],
+    r: [f32; BLOCK],
+}
+
+/// Writes the normals of chunk vertices `b0..b0 + n`: `u · r` with `r = 1 / √d` where
+/// `has` is set and `0 < r < ∞`, else the rest normal.
+///
+/// # Safety
+/// AVX2; `n ≤ BLOCK`, `b0 + n ≤ count`; `io.nrm` and `io.out_n` hold `count` vertices.
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn normalize_block(io: &Io, buf: &mut Block, b0: usize, n: usize, has: u64) {
+    let mut ok = 0u64;
+    for l in (0..n).step_by(8) {
+        // SAFETY: l + 8 ≤ BLOCK (a multiple of 8); lanes ≥ n are ignored.
+        let r = _mm256_div_ps(
+            _mm256_set1_ps(1.0),
+            _mm256_sqrt_ps(_mm256_loadu_ps(buf.d.as_ptr().add(l))),
+        );
+        let good = _mm256_and_ps(
+            _mm256_cmp_ps::<_CMP_GT_OQ>(r, _mm256_setzero_ps()),
+            _mm256_cmp_ps::<_CMP_LT_OQ>(r, _mm256_set1_ps(f32::INFINITY)),
+        );
+        ok |= (_mm256_movemask_ps(good) as u64) << l;
+        _mm256_storeu_ps(buf.r.as_mut_ptr().add(l), r);
+    }
+    ok &= has;
+    for l in 0..n {
+        let v = b0 + l;
+        // SAFETY: v < count = nrm.len() = out_n.len().
+        let o = io.out_n.add(v);
+        if ok & (1 << l) != 0 {
+            store3(o, _mm_mul_ps(buf.u[l], _mm_broadcast_ss(&buf.r[l])), v + 1 < io.count);
+        } else {
+            *o = *io.nrm.add(v);
+        }
+    }
+}
+
+/// Validates the eight four-influence rows at `jp`/`wp` (32 entries each) for the fast
+/// path: every joint < palette length, every weight finite and `≥ 0`, and each row with a
+/// positive weight (so its sum is not 0).
+///
+/// # Safety
+/// AVX2; `jp`, `wp` readable for 32 entries.
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn check8(pal: Palette, jp: *const u32, wp: *const f32) -> bool {
+    let mut jmax = _mm256_setzero_si256();
+    let mut fin = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
+    let mut pos = 0u32;
+    for q in 0..4 {
+        let j = _mm256_loadu_si256(jp.add(8 * q) as *const __m256i);
+        jmax = _mm256_max_epu32(jmax, j);
+        let w = _mm256_loadu_ps(wp.add(8 * q));
+        let in_range = _mm256_and_ps(
+            _mm256_cmp_ps::<_CMP_GE_OQ>(w, _mm256_setzero_ps()),
+            _mm256_cmp_ps::<_CMP_LT_OQ>(w, _mm256_set1_ps(f32::INFINITY)),
+        );
+        fin = _mm256_and_ps(fin, in_range);
+        pos |= (_mm256_movemask_ps(_mm256_cmp_ps::<_CMP_GT_OQ>(w, _mm256_setzero_ps())) as u32) << (8 * q);
+    }
+    let j_ok = _mm256_cmpgt_epi32(pal.len_x, _mm256_xor_si256(jmax, _mm256_set1_epi32(SIGN as i32)));
+    let all = _mm256_movemask_ps(_mm256_and_ps(fin, _mm256_castsi256_ps(j_ok)));
+    // Every 4-bit row group of `pos` non-zero.
+    let mut y = pos | (pos >> 1);
+    y |= y >> 2;
+    all == 0xff && y & 0x1111_1111 == 0x1111_1111
+}
+
+/// Rows of other than four influences: the portable [`blend_matrix`], kept out of line so
+/// that [`Ctx::matrix`] stays small enough to be inlined.
+#[inline(never)]
+fn general_row(js: &[u32], ws: &[f32], palette: &[Mat4]) -> Option<[Vec4; 4]> {
+    blend_matrix(js, ws, palette)
+}
+
+/// Raw views of a chunk's buffers, `count` vertices each (`js`/`ws`: `4 · count` or unused).
+struct Io {
+    out_p: *mut Vec3,
+    out_n: *mut Vec3,
+    nrm: *const Vec3,
+    js: *const u32,
+    ws: *const f32,
+    count: usize,
+}
+
+/// A four-influence row: `Σ wₖ Mₖ` as `((M₀w₀ + M₁w₁) + (M₂w₂ + M₃w₃))`, `None` when the
+/// valid weights sum to 0. An influence is valid when its joint indexes the palette and its
+/// weight is finite; invalid ones count as weight 0 on a zero matrix.
+///
+/// # Safety
+/// AVX2; `jp` and `wp` readable for four entries.
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn blend4(pal: Palette, jp: *const u32, wp: *const f32) -> Option<(__m256, __m256)> {
+    let jv = _mm_loadu_si128(jp as *const __m128i);
+    let wv = _mm_loadu_ps(wp);
+    // Unsigned j < len, and |w| < ∞ on the bit pattern (false for NaN).
+    let j_ok = _mm_cmpgt_epi32(
+        _mm256_castsi256_si128(pal.len_x),
+        _mm_xor_si128(jv, _mm_set1_epi32(SIGN as i32)),
+    );
+    let w_abs = _mm_and_si128(_mm_castps_si128(wv), _mm_set1_epi32(0x7fff_ffff));
+    let w_ok = _mm_cmpgt_epi32(_mm_set1_epi32(0x7f80_0000), w_abs);
+    let ok = _mm_castsi128_ps(_mm_and_si128(j_ok, w_ok));
+    let nonzero = _mm_cmp_ps::<_CMP_NEQ_UQ>(sum4(wv), _mm_setzero_ps());
+    if _mm_movemask_ps(_mm_and_ps(ok, nonzero)) == 0xf {
+        let m = |k: usize| pal.base.add(*jp.add(k) as usize) as *const f32;
+        // SAFETY: every joint was checked to be < palette length.
+        return Some(blend_ptrs([m(0), m(1), m(2), m(3)], wp));
+    }
+    let wm = _mm_and_ps(wv, ok);
+    if _mm_cvtss_f32(sum4(wm)) == 0.0 {
+        return None;
+    }
+    let mut w = [0.0f32; 4];
+    _mm_storeu_ps(w.as_mut_ptr(), wm);
+    let bits = _mm_movemask_ps(ok);
+    let zero = &ZERO as *const Mat4 as *const f32;
+    // SAFETY: a joint is used only when its lane passed the `j < len` check.
+    let m = |k: usize| match bits & (1 << k) {
+        0 => zero,
+        _ => pal.base.add(*jp.add(k) as usize) as *const f32,
+    };
+    Some(blend_ptrs([m(0), m(1), m(2), m(3)], w.as_ptr()))
+}
+
+/// `(w₀ + w₁) + (w₂ + w₃)` in every lane.
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn sum4(w: __m128) -> __m128 {
+    let s = _mm_add_ps(w, _mm_permute_ps::<0b10_11_00_01>(w));
+    _mm_add_ps(s, _mm_permute_ps::<0b01_00_11_10>(s))
+}
+
+/// `((M₀w₀ + M₁w₁) + (M₂w₂ + M₃w₃))` with `Mₖ` 16 floats at `m[k]`.
+///
+/// # Safety
+/// AVX2; each `m[k]` readable for 16 floats, `w` for 4.
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn blend_ptrs(m: [*const f32; 4], w: *const f32) -> (__m256, __m256) {
+    let w0 = _mm256_broadcast_ss(&*w);
+    let w1 = _mm256_broadcast_ss(&*w.add(1));
+    let w2 = _mm256_broadcast_ss(&*w.add(2));
+    let w3 = _mm256_broadcast_ss(&*w.add(3));
+    let w = [w0, w1, w2, w3];
+    (blend_half(m, 0, w), blend_half(m, 8, w))
+}
+
+/// One register's worth (offset `o`: 0 for columns `x|y`, 8 for `z|w`) of [`blend_ptrs`].
+///
+/// # Safety
+/// As [`blend_ptrs`].
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn blend_half(m: [*const f32; 4], o: usize, w: [__m256; 4]) -> __m256 {
+    let a = _mm256_add_ps(
+        _mm256_mul_ps(_mm256_loadu_ps(m[0].add(o)), w[0]),
+        _mm256_mul_ps(_mm256_loadu_ps(m[1].add(o)), w[1]),
+    );
+    let b = _mm256_add_ps(
+        _mm256_mul_ps(_mm256_loadu_ps(m[2].add(o)), w[2]),
+        _mm256_mul_ps(_mm256_loadu_ps(m[3].add(o)), w[3]),
+    );
+    _mm256_add_ps(a, b)
+}
+
+/// `((x·pₓ + y·p_y) + z·p_z) + w` for columns `x|y`, `z|w`; lane 3 is junk.
+///
+/// # Safety
+/// AVX2; `p` readable.
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn transform(ab: __m256, cw: __m256, p: *const Vec3) -> __m128 {
+    let (px, py, pz) = (
+        _mm_broadcast_ss(&(*p).x),
+        _mm_broadcast_ss(&(*p).y),
+        _mm_broadcast_ss(&(*p).z),
+    );
+    let x = _mm_mul_ps(_mm256_castps256_ps128(ab), px);
+    let y = _mm_mul_ps(_mm256_extractf128_ps::<1>(ab), py);
+    let z = _mm_mul_ps(_mm256_castps256_ps128(cw), pz);
+    _mm_add_ps(_mm_add_ps(_mm_add_ps(x, y), z), _mm256_extractf128_ps::<1>(cw))
+}
+
+/// `u × v` of the `xyz` lanes of each 128-bit half, as `x = u_y v_z − u_z v_y` etc.
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn cross2(u: __m256, v: __m256) -> __m256 {
+    const YZX: i32 = 0b11_00_10_01;
+    let t = _mm256_sub_ps(
+        _mm256_mul_ps(u, _mm256_permute_ps::<YZX>(v)),
+        _mm256_mul_ps(_mm256_permute_ps::<YZX>(u), v),
+    );
+    _mm256_permute_ps::<YZX>(t)
+}
+
+/// The cofactor transform of `n`: `((b×c)·nₓ + (c×a)·n_y) + (a×b)·n_z` for columns
+/// `a|b = ab`, `c = low(cw)`.
+///
+/// # Safety
+/// AVX2; `n` readable.
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn cofactor(ab: __m256, cw: __m256, n: *const Vec3) -> __m128 {
+    let bc = _mm256_permute2f128_ps::<0x21>(ab, cw); // b | c
+    let ca = _mm256_permute2f128_ps::<0x20>(cw, ab); // c | a
+    let pair = cross2(bc, ca); // b×c | c×a
+    let a = _mm256_castps256_ps128(ab);
+    let b = _mm256_extractf128_ps::<1>(ab);
+    let ab_x = _mm256_castps256_ps128(cross2(_mm256_castps128_ps256(a), _mm256_castps128_ps256(b)));
+    let nxy = _mm256_blend_ps::<0xf0>(_mm256_broadcast_ss(&(*n).x), _mm256_broadcast_ss(&(*n).y));
+    let t = _mm256_mul_ps(pair, nxy);
+    let s = _mm_add_ps(_mm256_castps256_ps128(t), _mm256_extractf128_ps::<1>(t));
+    _mm_add_ps(s, _mm_mul_ps(ab_x, _mm_broadcast_ss(&(*n).z)))
+}
+
+/// `(uₓ² + u_y²) + u_z²` in lane 0.
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn len2(u: __m128) -> __m128 {
+    let sq = _mm_mul_ps(u, u);
+    let xy = _mm_add_ss(sq, _mm_movehdup_ps(sq));
+    _mm_add_ss(xy, _mm_movehl_ps(sq, sq))
+}
+
+/// Stores the `xyz` lanes of `v` at `dst`; with `wide`, as one 16-byte store that also
+/// writes the next vertex's `x` (which the caller overwrites afterwards).
+///
+/// # Safety
+/// AVX2; `dst` writable for 12 bytes, 16 with `wide`.
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn store3(dst: *mut Vec3, v: __m128, wide: bool) {
+    let f = dst as *mut f32;
+    if wide {
+        _mm_storeu_ps(f, v);
+    } else {
+        _mm_store_sd(f as *mut f64, _mm_castps_pd(v));
+        _mm_store_ss(f.add(2), _mm_movehl_ps(v, v));
+    }
+}
