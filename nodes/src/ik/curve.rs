@@ -149,6 +149,85 @@ impl BSpline {
 /// Largest degree evaluated without allocating (higher degrees fall back to a `Vec`).
 const STACK_DEGREE: usize = 7;
 
+impl BSpline {
+    /// The curve points at increasing parameters `ts` (each in the domain, as the arc-length
+    /// table's samples are). Per span the control points, knots and the reciprocals of the
+    /// de Boor denominators are gathered once, so each point costs only multiplications and
+    /// additions; results agree with [`Self::point`] to rounding.
+    pub fn sample(&self, ts: &[f64]) -> Vec<DVec3> {
+        let p = self.degree;
+        if p > STACK_DEGREE {
+            return ts.iter().map(|&t| self.point(t)).collect();
+        }
+        let n = self.points.len();
+        let mut out = Vec::with_capacity(ts.len());
+        let mut span = usize::MAX;
+        let mut local = SpanLocal::default();
+        for &t in ts {
+            let t = self.normalize_param(t);
+            // Increasing parameters: step the span forward instead of searching for it.
+            let k = if span != usize::MAX && self.knots[span] <= t && (t < self.knots[span + 1] || span == n - 1) {
+                span
+            } else {
+                self.span(t)
+            };
+            if k != span {
+                span = k;
+                local = SpanLocal::new(p, &self.knots, &self.points, k);
+            }
+            out.push(local.eval(p, t));
+        }
+        out
+    }
+}
+
+/// One knot span's de Boor data for degree `p <= STACK_DEGREE`: control points, the knots
+/// subtracted in each step and the reciprocals of the step denominators (0 for empty spans).
+#[derive(Clone, Copy, Default)]
+struct SpanLocal {
+    points: [DVec3; STACK_DEGREE + 1],
+    /// `[r - 1][j]`: the knot `knots[j + k - p]` of step `r`.
+    start: [[f64; STACK_DEGREE + 1]; STACK_DEGREE],
+    /// `[r - 1][j]`: `1 / (knots[i + p + 1 - r] - knots[i])` with `i = j + k - p`.
+    inv: [[f64; STACK_DEGREE + 1]; STACK_DEGREE],
+}
+
+impl SpanLocal {
+    fn new(p: usize, knots: &[f64], pts: &[DVec3], k: usize) -> Self {
+        let mut s = SpanLocal::default();
+        let Some(src) = k.checked_sub(p).and_then(|first| pts.get(first..first + p + 1)) else {
+            return s;
+        };
+        s.points[..=p].copy_from_slice(src);
+        for r in 1..=p {
+            for j in r..=p {
+                let i = j + k - p;
+                let (ki, kr) = (
+                    knots.get(i).copied().unwrap_or(0.0),
+                    knots.get(i + p + 1 - r).copied().unwrap_or(0.0),
+                );
+                let den = kr - ki;
+                s.start[r - 1][j] = ki;
+                s.inv[r - 1][j] = if den > 0.0 { 1.0 / den } else { 0.0 };
+            }
+        }
+        s
+    }
+
+    #[inline]
+    fn eval(&self, p: usize, t: f64) -> DVec3 {
+        let mut d = [DVec3::ZERO; STACK_DEGREE + 1];
+        d[..=p].copy_from_slice(&self.points[..=p]);
+        for r in 1..=p {
+            for j in (r..=p).rev() {
+                let alpha = (t - self.start[r - 1][j]) * self.inv[r - 1][j];
+                d[j] = d[j - 1] * (1.0 - alpha) + d[j] * alpha;
+            }
+        }
+        d[p]
+    }
+}
+
 /// de Boor's algorithm for degree `p` in span `k` of `knots` over control points `pts`.
 fn de_boor(p: usize, knots: &[f64], pts: &[DVec3], k: usize, t: f64) -> DVec3 {
     let Some(src) = k.checked_sub(p).and_then(|first| pts.get(first..first + p + 1)) else {
@@ -199,7 +278,7 @@ impl ArcLengthTable {
                 }
             }
         }
-        let points: Vec<DVec3> = params.iter().map(|&t| spline.point(t)).collect();
+        let points = spline.sample(&params);
         let mut lengths = Vec::with_capacity(params.len());
         let mut acc = 0.0;
         let mut prev = points.first().copied().unwrap_or(DVec3::ZERO);

@@ -30,7 +30,7 @@ use sinew_core::{
 };
 
 use super::euler::RotateOrder;
-use super::math::{JointParams, TransformParams};
+use super::math::{mul_affine, JointParams, TransformParams};
 use super::matrix_nodes::inverse_or_identity;
 
 /// Maya's `rotateOrder` choices, in enum-index order.
@@ -177,11 +177,23 @@ impl Common {
         }
     }
 
+    /// `parentMatrix * offsetParentMatrix`, skipping the product when the offset is the
+    /// identity (its default).
+    fn parent_world(&self, ctx: &ComputeContext<'_>) -> DMat4 {
+        let parent = ctx.get(self.parent_matrix);
+        let offset = ctx.get(self.offset_parent_matrix);
+        if offset == DMat4::IDENTITY {
+            parent
+        } else {
+            mul_affine(&parent, &offset)
+        }
+    }
+
     /// Computes whichever group `ctx` asks for; `local` builds the local
     /// matrix (only called when a group that depends on it is computed).
     fn compute(&self, ctx: &mut ComputeContext<'_>, local: impl FnOnce(&ComputeContext<'_>) -> DMat4) {
         if ctx.wants(self.parent_inverse_matrix) {
-            let pm = ctx.get(self.parent_matrix) * ctx.get(self.offset_parent_matrix);
+            let pm = self.parent_world(ctx);
             ctx.set(self.parent_inverse_matrix, inverse_or_identity(pm));
         }
         if ctx.wants(self.matrix) {
@@ -194,7 +206,7 @@ impl Common {
         }
         if ctx.wants(self.world_matrix) {
             let m = ctx.get_output(self.matrix);
-            let w = ctx.get(self.parent_matrix) * ctx.get(self.offset_parent_matrix) * m;
+            let w = mul_affine(&self.parent_world(ctx), &m);
             ctx.set(self.world_matrix, w);
         }
         if ctx.wants(self.world_inverse_matrix) {

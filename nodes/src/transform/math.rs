@@ -82,6 +82,33 @@ pub fn world_matrix(local: DMat4, parent_world: DMat4) -> DMat4 {
     parent_world * local
 }
 
+/// `a * b`, computed as an affine product (a 3×3 product plus a translation) when both
+/// matrices have the last row `0 0 0 1`, as transform and joint matrices do.
+///
+/// The affine product performs the same multiplications and additions in the same order as
+/// glam's 4×4 product except those by the zero/one entries of the last row, so the result
+/// equals `a * b` (up to the sign of zero entries); projective matrices take the full product.
+#[inline]
+pub fn mul_affine(a: &DMat4, b: &DMat4) -> DMat4 {
+    let affine = |m: &DMat4| m.x_axis.w == 0.0 && m.y_axis.w == 0.0 && m.z_axis.w == 0.0 && m.w_axis.w == 1.0;
+    if !(affine(a) && affine(b)) {
+        return *a * *b;
+    }
+    let (ax, ay, az, aw) = (
+        a.x_axis.truncate(),
+        a.y_axis.truncate(),
+        a.z_axis.truncate(),
+        a.w_axis.truncate(),
+    );
+    let col = |c: glam::DVec4| ax * c.x + ay * c.y + az * c.z;
+    DMat4::from_cols(
+        col(b.x_axis).extend(0.0),
+        col(b.y_axis).extend(0.0),
+        col(b.z_axis).extend(0.0),
+        (col(b.w_axis) + aw).extend(1.0),
+    )
+}
+
 /// Attribute values of a Maya `transform` node that shape its local matrix.
 ///
 /// Angles in radians. [`Default`] is the identity transform.
