@@ -1,7 +1,8 @@
 //! Evaluates a compiled 10,000-node chain for a number of frames; used with
 //! `valgrind --tool=callgrind` to count instructions per node deterministically.
 //!
-//! Run: `cargo run --release -p sinew-core --example schedule_profile -- 100`.
+//! Run: `cargo run --release -p sinew-core --example schedule_profile -- 100`
+//! (add `wide` after the frame count for 10,000 independent adds fed by time).
 
 use std::sync::Arc;
 
@@ -9,13 +10,14 @@ use sinew_core::{testing, CompileOptions, Graph, Instance, Program, Time, Value}
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let frames: usize = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(100);
+    let wide = std::env::args().nth(2).as_deref() == Some("wide");
     let n = 10_000;
     let mut g = Graph::new(testing::registry()?);
     g.add_node("timeSource", "t")?;
     for i in 0..n {
         g.add_node("add", &format!("a{i}"))?;
-        g.set_path(&format!("a{i}.input2"), Value::Float(1.0))?;
-        let src = if i == 0 {
+        g.set_path(&format!("a{i}.input2"), Value::Float(if wide { i as f64 } else { 1.0 }))?;
+        let src = if i == 0 || wide {
             "t.output".to_string()
         } else {
             format!("a{}.output", i - 1)

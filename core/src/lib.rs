@@ -10,6 +10,7 @@
 pub mod data;
 pub mod error;
 pub mod graph;
+pub mod kernel;
 pub mod node;
 pub mod path;
 pub mod program;
@@ -23,6 +24,7 @@ pub mod value;
 pub use data::{Curve, CurveForm, Mesh, Weights};
 pub use error::{ComputeError, Error, Result, SpecError};
 pub use graph::{EvalStats, Graph, NodeId, Plug};
+pub use kernel::{ScalarKernel, ScalarOp, MAX_KERNEL_INPUTS};
 pub use node::{ComputeContext, NodeType, Time};
 pub use program::{evaluate_batch, CompileOptions, Instance, PlugHandle, Program};
 pub use registry::Registry;

@@ -10,6 +10,7 @@ use std::sync::Arc;
 
 use crate::error::ComputeError;
 use crate::graph::store::AttrStore;
+use crate::kernel::ScalarKernel;
 use crate::program::{AttrBinding, Binding, CompiledTables};
 use crate::spec::{AttrId, Input, MultiInput, MultiOutput, NodeSpec, Output};
 use crate::value::{AttrValue, SharedData, Value};
@@ -29,6 +30,16 @@ pub trait NodeType: Send + Sync + 'static {
     /// Writes to outputs outside that group are ignored, so a node with one
     /// group can simply compute everything.
     fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError>;
+
+    /// An optional fast path for trivial float nodes: when the node's whole
+    /// compute is `output = op(inputs...)` over single float attributes,
+    /// return that [`ScalarKernel`] (built once, with the spec) and implement
+    /// `compute` as [`ScalarKernel::compute`]. A compiled program then runs
+    /// the kernel directly over its slots. `compute` must give exactly what
+    /// the kernel gives. The default is `None` (always call `compute`).
+    fn scalar_kernel(&self) -> Option<&ScalarKernel> {
+        None
+    }
 }
 
 /// The current time: a frame number and a frame rate.
@@ -66,28 +77,81 @@ impl Default for Time {
 pub(crate) struct LazyIo<'a> {
     pub attrs: &'a mut [AttrStore],
     pub revision: u64,
+    pub spec: &'a NodeSpec,
 }
 
-pub(crate) struct CompiledIo<'a> {
-    pub slots: &'a mut [Value],
-    pub attrs: &'a [AttrBinding],
-    pub tables: &'a CompiledTables,
-}
-
-pub(crate) enum Io<'a> {
-    Lazy(LazyIo<'a>),
-    Compiled(CompiledIo<'a>),
-}
+/// Bindings for a context that is not compiled (none: every access takes the slow path).
+static NO_TABLES: CompiledTables = CompiledTables::EMPTY;
 
 /// What `compute` sees: typed reads of inputs, typed writes of outputs, time.
+///
+/// In compiled mode `slots`, `attrs` and `tables` describe where the node's
+/// attributes live; in lazy mode they are empty (so the inlined fast paths
+/// fall through to the out-of-line lazy code) and `lazy` is set.
 pub struct ComputeContext<'a> {
-    pub(crate) io: Io<'a>,
-    pub(crate) spec: &'a NodeSpec,
+    pub(crate) slots: &'a mut [Value],
+    pub(crate) attrs: &'a [AttrBinding],
+    pub(crate) tables: &'a CompiledTables,
+    pub(crate) lazy: Option<LazyIo<'a>>,
+    pub(crate) node: &'a dyn NodeType,
     pub(crate) group: u16,
     pub(crate) time: Time,
 }
 
 impl<'a> ComputeContext<'a> {
+    /// A context over a lazy graph node's attribute stores.
+    pub(crate) fn lazy(
+        attrs: &'a mut [AttrStore],
+        revision: u64,
+        node: &'a dyn NodeType,
+        group: u16,
+        time: Time,
+    ) -> Self {
+        ComputeContext {
+            slots: &mut [],
+            attrs: &[],
+            tables: &NO_TABLES,
+            lazy: Some(LazyIo {
+                attrs,
+                revision,
+                spec: node.spec(),
+            }),
+            node,
+            group,
+            time,
+        }
+    }
+
+    /// A context over compiled slots (`attrs` is the node's slice of attribute bindings).
+    #[inline]
+    pub(crate) fn compiled(
+        slots: &'a mut [Value],
+        attrs: &'a [AttrBinding],
+        tables: &'a CompiledTables,
+        node: &'a dyn NodeType,
+        group: u16,
+        time: Time,
+    ) -> Self {
+        ComputeContext {
+            slots,
+            attrs,
+            tables,
+            lazy: None,
+            node,
+            group,
+            time,
+        }
+    }
+
+    /// The spec of the node being computed.
+    #[inline]
+    fn spec(&self) -> &'a NodeSpec {
+        match &self.lazy {
+            Some(io) => io.spec,
+            None => self.node.spec(),
+        }
+    }
+
     /// The current time (meaningful for time-dependent node types).
     #[inline]
     pub fn time(&self) -> Time {
@@ -97,60 +161,69 @@ impl<'a> ComputeContext<'a> {
     /// Whether this call computes the group containing `out`.
     #[inline]
     pub fn wants(&self, out: impl Into<AttrId>) -> bool {
-        self.spec.group_of(out.into()) == Some(self.group)
+        let id = out.into();
+        match self.attrs.get(id.index()) {
+            // Compiled bindings carry the group of outputs (`u16::MAX` for inputs, never a step's group).
+            Some(b) => b.group == self.group,
+            None => self.spec().group_of(id) == Some(self.group),
+        }
     }
 
-    #[inline]
     fn read_elem(&self, id: AttrId, k: usize) -> Option<Value> {
-        match &self.io {
-            Io::Lazy(io) => io.attrs.get(id.index())?.elems.get(k).map(|e| e.value.clone()),
-            Io::Compiled(io) => {
-                let b = io.attrs.get(id.index())?;
+        match &self.lazy {
+            Some(io) => io.attrs.get(id.index())?.elems.get(k).map(|e| e.value.clone()),
+            None => {
+                let b = self.attrs.get(id.index())?;
                 if k >= b.len as usize {
                     return None;
                 }
-                let e = io.tables.elems.get(b.first as usize + k)?;
-                Some(io.tables.resolve(io.slots, e.binding))
+                let e = self.tables.elems.get(b.first as usize + k)?;
+                Some(self.tables.resolve(self.slots, e.binding))
             }
         }
     }
 
+    /// Reads element `k` of an attribute: a plain compiled slot inline, everything else out of line.
     #[inline(always)]
     fn read_with<T: AttrValue>(&self, id: AttrId, k: usize) -> Option<T> {
-        // Fast paths avoid cloning the whole value for plain slots.
-        if let (Io::Compiled(io), 0) = (&self.io, k) {
-            let b = io.attrs.get(id.index())?;
-            if b.len == 0 {
-                return None;
+        if k == 0 {
+            if let Some(b) = self.attrs.get(id.index()) {
+                // `slot` is `u32::MAX` (out of range) unless the head element is a whole slot.
+                if let Some(v) = self.slots.get(b.slot as usize) {
+                    return T::from_value(v);
+                }
             }
-            return match b.head {
-                Binding::Slot(s) => T::from_value(io.slots.get(s as usize)?),
-                other => T::from_value(&io.tables.resolve(io.slots, other)),
-            };
         }
-        match &self.io {
-            Io::Lazy(io) => io
+        self.read_slow(id, k)
+    }
+
+    #[inline(never)]
+    fn read_slow<T: AttrValue>(&self, id: AttrId, k: usize) -> Option<T> {
+        match &self.lazy {
+            Some(io) => io
                 .attrs
                 .get(id.index())?
                 .elems
                 .get(k)
                 .and_then(|e| T::from_value(&e.value)),
-            Io::Compiled(io) => {
-                let b = io.attrs.get(id.index())?;
+            None => {
+                let b = self.attrs.get(id.index())?;
                 if k >= b.len as usize {
                     return None;
                 }
-                let e = io.tables.elems.get(b.first as usize + k)?;
+                let e = self.tables.elems.get(b.first as usize + k)?;
                 match e.binding {
-                    Binding::Slot(s) => T::from_value(io.slots.get(s as usize)?),
-                    _ => T::from_value(&io.tables.resolve(io.slots, e.binding)),
+                    Binding::Slot(s) => T::from_value(self.slots.get(s as usize)?),
+                    _ => T::from_value(&self.tables.resolve(self.slots, e.binding)),
                 }
             }
         }
     }
 
+    #[cold]
+    #[inline(never)]
     fn fallback<T: AttrValue>(&self, id: AttrId) -> T {
-        T::from_value(&self.spec.attr(id).default).unwrap_or_default()
+        T::from_value(&self.spec().attr(id).default).unwrap_or_default()
     }
 
     /// Reads a single-valued input.
@@ -178,21 +251,21 @@ impl<'a> ComputeContext<'a> {
     }
 
     fn elem_count(&self, id: AttrId) -> usize {
-        match &self.io {
-            Io::Lazy(io) => io.attrs.get(id.index()).map_or(0, |a| a.elems.len()),
-            Io::Compiled(io) => io.attrs.get(id.index()).map_or(0, |b| b.len as usize),
+        match &self.lazy {
+            Some(io) => io.attrs.get(id.index()).map_or(0, |a| a.elems.len()),
+            None => self.attrs.get(id.index()).map_or(0, |b| b.len as usize),
         }
     }
 
     fn elem_index(&self, id: AttrId, k: usize) -> Option<u32> {
-        match &self.io {
-            Io::Lazy(io) => io.attrs.get(id.index())?.elems.get(k).map(|e| e.index),
-            Io::Compiled(io) => {
-                let b = io.attrs.get(id.index())?;
+        match &self.lazy {
+            Some(io) => io.attrs.get(id.index())?.elems.get(k).map(|e| e.index),
+            None => {
+                let b = self.attrs.get(id.index())?;
                 if k >= b.len as usize {
                     return None;
                 }
-                io.tables.elems.get(b.first as usize + k).map(|e| e.index)
+                self.tables.elems.get(b.first as usize + k).map(|e| e.index)
             }
         }
     }
@@ -222,27 +295,48 @@ impl<'a> ComputeContext<'a> {
         self.elem_index(h.id(), k)
     }
 
+    /// Writes element `k` of an output: a compiled single element inline, everything else out of line.
     #[inline(always)]
     fn write<T: AttrValue>(&mut self, id: AttrId, k: usize, v: T) {
-        match &mut self.io {
-            Io::Compiled(io) => {
-                let Some(b) = io.attrs.get(id.index()) else { return };
-                if b.group != self.group || k >= b.len as usize {
+        if k == 0 {
+            if let Some(b) = self.attrs.get(id.index()) {
+                if b.group == self.group {
+                    if let Some(slot) = self.slots.get_mut(b.slot as usize) {
+                        v.write_into(slot);
+                    }
+                }
+                // Outputs are always bound to whole slots: nothing else to write.
+                return;
+            }
+        }
+        self.write_slow(id, k, v);
+    }
+
+    #[inline(never)]
+    fn write_slow<T: AttrValue>(&mut self, id: AttrId, k: usize, v: T) {
+        let group = self.group;
+        match &mut self.lazy {
+            None => {
+                let Some(b) = self.attrs.get(id.index()) else { return };
+                if b.group != group || k >= b.len as usize {
                     return;
                 }
                 let binding = if k == 0 {
                     b.head
                 } else {
-                    io.tables.elems.get(b.first as usize + k).map_or(b.head, |e| e.binding)
+                    self.tables
+                        .elems
+                        .get(b.first as usize + k)
+                        .map_or(b.head, |e| e.binding)
                 };
                 if let Binding::Slot(s) = binding {
-                    if let Some(slot) = io.slots.get_mut(s as usize) {
+                    if let Some(slot) = self.slots.get_mut(s as usize) {
                         v.write_into(slot);
                     }
                 }
             }
-            Io::Lazy(io) => {
-                if self.spec.group_of(id) != Some(self.group) {
+            Some(io) => {
+                if io.spec.group_of(id) != Some(group) {
                     return;
                 }
                 if let Some(e) = io.attrs.get_mut(id.index()).and_then(|a| a.elems.get_mut(k)) {
@@ -277,22 +371,22 @@ impl<'a> ComputeContext<'a> {
     /// in the group being computed.
     pub fn data_mut<D: SharedData>(&mut self, h: Output<Arc<D>>) -> Option<&mut D> {
         let id = h.id();
-        if self.spec.group_of(id) != Some(self.group) {
+        if self.spec().group_of(id) != Some(self.group) {
             return None;
         }
-        let slot: &mut Value = match &mut self.io {
-            Io::Lazy(io) => {
+        let slot: &mut Value = match &mut self.lazy {
+            Some(io) => {
                 let e = io.attrs.get_mut(id.index())?.elems.get_mut(0)?;
                 e.changed_at = io.revision;
                 &mut e.value
             }
-            Io::Compiled(io) => {
-                let b = io.attrs.get(id.index())?;
-                let s = match io.tables.elems.get(b.first as usize)?.binding {
+            None => {
+                let b = self.attrs.get(id.index())?;
+                let s = match self.tables.elems.get(b.first as usize)?.binding {
                     Binding::Slot(s) => s as usize,
                     _ => return None,
                 };
-                io.slots.get_mut(s)?
+                self.slots.get_mut(s)?
             }
         };
         if D::arc_mut(slot).is_none() {

@@ -16,9 +16,10 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 
-use crate::error::{nearest, Error, Result};
+use crate::error::{nearest, ComputeError, Error, Result};
 use crate::graph::{Graph, NodeId, Plug};
-use crate::node::{CompiledIo, ComputeContext, Io, NodeType, Time};
+use crate::kernel::KernelStep;
+use crate::node::{ComputeContext, NodeType, Time};
 use crate::path::{parse_plug_path, resolve_attr, AttrLookupError};
 use crate::spec::{AttrId, Direction, NodeSpec};
 use crate::value::{AttrType, AttrValue, Value};
@@ -42,12 +43,15 @@ pub(crate) struct ElemBinding {
 
 /// Where one attribute of one step's node lives: its elements in
 /// `CompiledTables::elems`, the first element's binding inline (the fast path
-/// for single attributes), and its compute group (`u16::MAX` for inputs).
+/// for single attributes), that binding's slot when it is a whole slot
+/// (`u32::MAX` otherwise, so one bounds check decides the fast path) and its
+/// compute group (`u16::MAX` for inputs).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct AttrBinding {
     pub first: u32,
     pub len: u32,
     pub head: Binding,
+    pub slot: u32,
     pub group: u16,
 }
 
@@ -57,8 +61,20 @@ impl Default for AttrBinding {
             first: 0,
             len: 0,
             head: Binding::Slot(u32::MAX),
+            slot: u32::MAX,
             group: u16::MAX,
         }
+    }
+}
+
+impl AttrBinding {
+    /// Sets the first element's binding (`None` when there is no element).
+    pub(crate) fn set_head(&mut self, head: Option<Binding>) {
+        self.head = head.unwrap_or(Binding::Slot(u32::MAX));
+        self.slot = match head {
+            Some(Binding::Slot(s)) => s,
+            _ => u32::MAX,
+        };
     }
 }
 
@@ -73,6 +89,14 @@ pub(crate) struct Assembly {
 pub(crate) struct CompiledTables {
     pub elems: Vec<ElemBinding>,
     pub assemblies: Vec<Assembly>,
+}
+
+impl CompiledTables {
+    /// No bindings (the tables of a lazy compute context).
+    pub(crate) const EMPTY: CompiledTables = CompiledTables {
+        elems: Vec::new(),
+        assemblies: Vec::new(),
+    };
 }
 
 fn lane(slots: &[Value], slot: u32, comp: Option<u8>) -> f64 {
@@ -108,12 +132,50 @@ impl CompiledTables {
     }
 }
 
+#[derive(Clone)]
 pub(crate) struct Step {
     pub kind: Arc<dyn NodeType>,
     pub node: u32,
     pub attr_base: u32,
     pub attr_count: u32,
     pub group: u16,
+    /// The node's scalar kernel bound to its slots, run instead of `compute`.
+    pub kernel: Option<KernelStep>,
+}
+
+impl Step {
+    /// A step of group `group` of a node whose attribute bindings start at
+    /// `attr_base`, with its scalar kernel bound when the node type has one.
+    pub(crate) fn new(
+        kind: Arc<dyn NodeType>,
+        node: u32,
+        attr_base: u32,
+        group: u16,
+        attr_bindings: &[AttrBinding],
+    ) -> Step {
+        let spec = kind.spec();
+        let attr_count = spec.attrs.len() as u32;
+        let kernel = kind.scalar_kernel().and_then(|k| {
+            let attrs = attr_bindings.get(attr_base as usize..(attr_base + attr_count) as usize)?;
+            KernelStep::bind(k, spec, attrs)
+        });
+        Step {
+            kind,
+            node,
+            attr_base,
+            attr_count,
+            group,
+            kernel,
+        }
+    }
+}
+
+/// The steps `frame_steps` lists, in order (indices out of range are skipped).
+pub(crate) fn frame_schedule(steps: &[Step], frame_steps: &[u32]) -> Vec<Step> {
+    frame_steps
+        .iter()
+        .filter_map(|&i| steps.get(i as usize).cloned())
+        .collect()
 }
 
 /// Options for [`Program::compile`].
@@ -140,6 +202,8 @@ pub(crate) struct NodeEntry {
 pub struct Program {
     pub(crate) steps: Vec<Step>,
     pub(crate) frame_steps: Vec<u32>,
+    /// Copies of the steps listed in `frame_steps`, so a frame walks one slice.
+    pub(crate) frame_schedule: Vec<Step>,
     pub(crate) attr_bindings: Vec<AttrBinding>,
     pub(crate) tables: CompiledTables,
     pub(crate) initial: Vec<Value>,
@@ -389,12 +453,7 @@ impl Instance {
         let result = if self.needs_full {
             run_steps(&program, program.steps.iter(), &mut self.slots, time)
         } else {
-            run_steps(
-                &program,
-                program.frame_steps.iter().map(|&i| &program.steps[i as usize]),
-                &mut self.slots,
-                time,
-            )
+            run_steps(&program, program.frame_schedule.iter(), &mut self.slots, time)
         };
         if result.is_ok() {
             self.needs_full = false;
@@ -416,28 +475,34 @@ fn run_steps<'a>(
     time: Time,
 ) -> Result<()> {
     for step in steps {
+        if let Some(k) = &step.kernel {
+            if k.run(slots) {
+                continue;
+            }
+        }
         let base = step.attr_base as usize;
-        let attrs = &program.attr_bindings[base..base + step.attr_count as usize];
-        let spec = step.kind.spec();
-        let mut ctx = ComputeContext {
-            io: Io::Compiled(CompiledIo {
-                slots: &mut *slots,
-                attrs,
-                tables: &program.tables,
-            }),
-            spec,
-            group: step.group,
-            time,
-        };
-        if let Err(e) = step.kind.compute(&mut ctx) {
-            return Err(Error::Compute {
-                node: program.step_node_name(step).to_string(),
-                node_type: spec.name.clone(),
-                message: e.message,
-            });
+        let attrs = program
+            .attr_bindings
+            .get(base..base + step.attr_count as usize)
+            .unwrap_or(&[]);
+        let kind: &dyn NodeType = &*step.kind;
+        let mut ctx = ComputeContext::compiled(&mut *slots, attrs, &program.tables, kind, step.group, time);
+        if let Err(e) = kind.compute(&mut ctx) {
+            return Err(step_error(program, step, e));
         }
     }
     Ok(())
+}
+
+/// The error of a failed step, naming its node (out of line: the loop stays small).
+#[cold]
+#[inline(never)]
+fn step_error(program: &Program, step: &Step, e: ComputeError) -> Error {
+    Error::Compute {
+        node: program.step_node_name(step).to_string(),
+        node_type: step.kind.spec().name.clone(),
+        message: e.message,
+    }
 }
 
 /// Evaluates many instances at `time` in parallel (rayon). Instances are
@@ -586,12 +651,14 @@ impl<'g> Compiler<'g> {
                         binding,
                     });
                 }
-                attr_bindings[(self.attr_base[ni] + a as u32) as usize] = AttrBinding {
+                let ab = &mut attr_bindings[(self.attr_base[ni] + a as u32) as usize];
+                *ab = AttrBinding {
                     first,
                     len: elems.len() as u32 - first,
-                    head: elems.get(first as usize).map_or(Binding::Slot(u32::MAX), |e| e.binding),
                     group: spec.group_of(AttrId(a as u16)).unwrap_or(u16::MAX),
+                    ..AttrBinding::default()
                 };
+                ab.set_head(elems.get(first as usize).map(|e| e.binding));
             }
         }
         let tables = CompiledTables {
@@ -605,13 +672,13 @@ impl<'g> Compiler<'g> {
             let data = g.data(id)?;
             for gi in 0..data.spec().groups().len() {
                 step_of.insert((ni as u32, gi as u16), steps.len() as u32);
-                steps.push(Step {
-                    kind: data.kind.clone(),
-                    node: ni as u32,
-                    attr_base: self.attr_base[ni],
-                    attr_count: data.attrs.len() as u32,
-                    group: gi as u16,
-                });
+                steps.push(Step::new(
+                    data.kind.clone(),
+                    ni as u32,
+                    self.attr_base[ni],
+                    gi as u16,
+                    &attr_bindings,
+                ));
             }
         }
         let slot_reads = |b: Binding, out: &mut Vec<u32>| match b {
@@ -759,6 +826,7 @@ impl<'g> Compiler<'g> {
             .collect();
         let own_input_slot = self.output_slot_producer.iter().map(|p| p.is_none()).collect();
         Ok(Program {
+            frame_schedule: frame_schedule(&sorted, &frame_steps),
             steps: sorted,
             frame_steps,
             attr_bindings,

@@ -36,7 +36,9 @@ use glam::{DMat4, DQuat, DVec3, Vec2, Vec3};
 
 use crate::data::{Curve, CurveForm, Mesh, Weights};
 use crate::error::{Error, Result};
-use crate::program::{Assembly, AttrBinding, Binding, CompiledTables, ElemBinding, NodeEntry, Program, Step};
+use crate::program::{
+    frame_schedule, Assembly, AttrBinding, Binding, CompiledTables, ElemBinding, NodeEntry, Program, Step,
+};
 use crate::registry::Registry;
 use crate::spec::{AttrId, Direction, NodeSpec};
 use crate::value::{AttrType, ObjectRef, Value};
@@ -854,11 +856,13 @@ fn decode_payload(payload: &[u8], registry: &Registry) -> Result<Program> {
                     )));
                 }
             }
-            ab.head = tables
-                .elems
-                .get(ab.first as usize)
-                .filter(|_| ab.len > 0)
-                .map_or(Binding::Slot(u32::MAX), |e| e.binding);
+            ab.set_head(
+                tables
+                    .elems
+                    .get(ab.first as usize)
+                    .filter(|_| ab.len > 0)
+                    .map(|e| e.binding),
+            );
         }
     }
     if expected_base != attr_bindings.len() as u64 {
@@ -876,18 +880,19 @@ fn decode_payload(payload: &[u8], registry: &Registry) -> Result<Program> {
                 entry.name
             )));
         }
-        steps.push(Step {
-            kind: entry.kind.clone(),
+        steps.push(Step::new(
+            entry.kind.clone(),
             node,
-            attr_base: entry.attr_base,
-            attr_count: spec.attrs.len() as u32,
-            group: group as u16,
-        });
+            entry.attr_base,
+            group as u16,
+            &attr_bindings,
+        ));
     }
     if let Some(&f) = frame_steps.iter().find(|&&f| f as usize >= steps.len()) {
         return Err(err(format!("frame step {f} out of range")));
     }
     Ok(Program {
+        frame_schedule: frame_schedule(&steps, &frame_steps),
         steps,
         frame_steps,
         attr_bindings,

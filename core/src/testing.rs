@@ -7,16 +7,16 @@ use std::sync::Arc;
 use glam::{DMat4, DVec3};
 
 use crate::error::{ComputeError, SpecError};
+use crate::kernel::{ScalarKernel, ScalarOp};
 use crate::node::{ComputeContext, NodeType};
 use crate::registry::Registry;
 use crate::spec::{Input, MirrorRole, MultiInput, MultiOutput, NodeSpec, Output, Unit};
 
-/// `add`: `output = input1 + input2` (floats).
+/// `add`: `output = input1 + input2` (floats). Its compute is a
+/// [`ScalarKernel`], so compiled programs run it without a compute context.
 pub struct Add {
     spec: NodeSpec,
-    a: Input<f64>,
-    b: Input<f64>,
-    out: Output<f64>,
+    kernel: ScalarKernel,
 }
 
 impl Add {
@@ -27,12 +27,9 @@ impl Add {
         let a = s.input("input1", 0.0);
         let b = s.input("input2", 0.0);
         let out = s.output("output", 0.0);
-        Ok(Add {
-            spec: s.build()?,
-            a,
-            b,
-            out,
-        })
+        let spec = s.build()?;
+        let kernel = ScalarKernel::new(&spec, &[a, b], out, ScalarOp::Add)?;
+        Ok(Add { spec, kernel })
     }
 }
 
@@ -41,9 +38,10 @@ impl NodeType for Add {
         &self.spec
     }
     fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
-        let v = ctx.get(self.a) + ctx.get(self.b);
-        ctx.set(self.out, v);
-        Ok(())
+        self.kernel.compute(ctx)
+    }
+    fn scalar_kernel(&self) -> Option<&ScalarKernel> {
+        Some(&self.kernel)
     }
 }
 

@@ -420,7 +420,7 @@ macro_rules! attr_value {
             fn write_into(self, slot: &mut Value) {
                 match slot {
                     Value::$var(x) => *x = self,
-                    other => *other = Value::$var(self),
+                    other => replace_value(other, Value::$var(self)),
                 }
             }
         }
@@ -460,9 +460,17 @@ impl AttrValue for i64 {
     fn write_into(self, slot: &mut Value) {
         match slot {
             Value::Int(x) | Value::Enum(x) => *x = self,
-            other => *other = Value::Int(self),
+            other => replace_value(other, Value::Int(self)),
         }
     }
+}
+
+/// Replaces a slot holding another variant (rare: the first write of an
+/// output, or a type change), out of line so the in-place writes stay small.
+#[cold]
+#[inline(never)]
+fn replace_value(slot: &mut Value, v: Value) {
+    *slot = v;
 }
 
 /// Heavy data held behind an `Arc` that a node may mutate in place on its

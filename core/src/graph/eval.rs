@@ -12,7 +12,7 @@
 
 use super::{Graph, NodeId, Plug};
 use crate::error::{Error, Result};
-use crate::node::{ComputeContext, Io, LazyIo, Time};
+use crate::node::{ComputeContext, Time};
 use crate::spec::AttrId;
 use crate::value::Value;
 
@@ -301,15 +301,7 @@ impl Graph {
                         .any(|e| e.changed_at > gs.verified_at)
                 });
             if changed {
-                let mut ctx = ComputeContext {
-                    io: Io::Lazy(LazyIo {
-                        attrs: &mut data.attrs,
-                        revision: rev,
-                    }),
-                    spec,
-                    group: g,
-                    time,
-                };
+                let mut ctx = ComputeContext::lazy(&mut data.attrs, rev, &*kind, g, time);
                 let result = kind.compute(&mut ctx);
                 self.stats.computes += 1;
                 if let Err(e) = result {

@@ -64,6 +64,8 @@ pub fn register(registry: &mut Registry) -> Result<(), SpecError> {
     registry.register(arith::PlusMinusAverage::new()?)?;
     registry.register(arith::Reverse::new()?)?;
     registry.register(arith::UnitConversion::new()?)?;
+    registry.register(arith::AddDoubleLinear::new()?)?;
+    registry.register(arith::MultDoubleLinear::new()?)?;
     registry.register(select::Condition::new()?)?;
     registry.register(select::BlendColors::new()?)?;
     registry.register(select::Clamp::new()?)?;

@@ -247,3 +247,42 @@ fn set_range_maps_clamps_and_handles_empty_range() {
     let out = vec(&both(&mut g, &["s.outValue"])[0]);
     assert_eq!(out, DVec3::new(15.0, 0.5, 7.0));
 }
+
+#[test]
+fn unit_conversion_kernel_saturates_and_reads_components() {
+    let mut g = graph();
+    g.add_node("reverse", "r").unwrap();
+    g.add_node("unitConversion", "big").unwrap();
+    g.add_node("unitConversion", "lane").unwrap();
+    // 1e300 · 1e300 overflows to +inf, saturated at f64::MAX (the documented fallback).
+    set(&mut g, "big.input", Value::Float(1e300));
+    set(&mut g, "big.conversionFactor", Value::Float(1e300));
+    // reverse.outputY = 1 - 0.25 = 0.75, then 0.75 · 2 = 1.5 (exact in binary).
+    set(&mut g, "r.input", v3(0.0, 0.25, 0.0));
+    g.connect_path("r.outputY", "lane.input").unwrap();
+    set(&mut g, "lane.conversionFactor", Value::Float(2.0));
+    // `both` checks the compiled kernel against lazy compute bit for bit.
+    let out = both(&mut g, &["big.output", "lane.output"]);
+    assert_eq!(float(&out[0]), f64::MAX);
+    assert_eq!(float(&out[1]), 1.5);
+}
+
+#[test]
+fn add_and_mult_double_linear_match_by_hand() {
+    let mut g = graph();
+    g.add_node("addDoubleLinear", "add").unwrap();
+    g.add_node("multDoubleLinear", "mul").unwrap();
+    g.add_node("multDoubleLinear", "huge").unwrap();
+    // 0.5 + 0.25 = 0.75 and 0.75 · -4 = -3 (all exact in binary).
+    set(&mut g, "add.input1", Value::Float(0.5));
+    set(&mut g, "add.input2", Value::Float(0.25));
+    g.connect_path("add.output", "mul.input1").unwrap();
+    set(&mut g, "mul.input2", Value::Float(-4.0));
+    // -1e300 · 1e300 overflows to -inf, saturated at -f64::MAX.
+    set(&mut g, "huge.input1", Value::Float(-1e300));
+    set(&mut g, "huge.input2", Value::Float(1e300));
+    let out = both(&mut g, &["add.output", "mul.output", "huge.output"]);
+    assert_eq!(float(&out[0]), 0.75);
+    assert_eq!(float(&out[1]), -3.0);
+    assert_eq!(float(&out[2]), -f64::MAX);
+}
