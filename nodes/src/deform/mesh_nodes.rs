@@ -219,11 +219,25 @@ pub fn transform_mesh_into(src: &Mesh, m: &DMat4, dst: &mut Mesh) {
 }
 
 /// Makes `dst`'s triangles and UVs equal to `src`'s, copying only when they differ.
+///
+/// The comparison is bitwise and branch-free over the whole buffers (it runs every frame
+/// on an unchanged topology, so it is written to vectorize rather than to exit early).
 pub fn copy_topology(src: &Mesh, dst: &mut Mesh) {
-    if dst.triangles != src.triangles {
+    let same_triangles = dst.triangles.len() == src.triangles.len()
+        && dst
+            .triangles
+            .iter()
+            .zip(&src.triangles)
+            .fold(0u32, |acc, (a, b)| acc | (a[0] ^ b[0]) | (a[1] ^ b[1]) | (a[2] ^ b[2]))
+            == 0;
+    if !same_triangles {
         dst.triangles.clone_from(&src.triangles);
     }
-    if dst.uvs != src.uvs {
+    let same_uvs = dst.uvs.len() == src.uvs.len()
+        && dst.uvs.iter().zip(&src.uvs).fold(0u32, |acc, (a, b)| {
+            acc | (a.x.to_bits() ^ b.x.to_bits()) | (a.y.to_bits() ^ b.y.to_bits())
+        }) == 0;
+    if !same_uvs {
         dst.uvs.clone_from(&src.uvs);
     }
 }

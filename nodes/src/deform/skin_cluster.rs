@@ -73,6 +73,38 @@ pub struct SkinCache {
     pub weights: Weights,
     /// `blendWeights` as `f32`, clamped to `[0, 1]` (non-finite entries become 0).
     pub blend_weights: Vec<f32>,
+    /// When every vertex has at most four influences but not all exactly four (e.g. glTF
+    /// weights with zero entries dropped): `weights` padded to exactly four per vertex with
+    /// invalid influences (joint `u32::MAX`, weight 0), which the skinning kernels treat as
+    /// absent. It lets every vertex take the uniform four-influence fast path, with the
+    /// same result as the unpadded rows (the kernels pad short rows the same way).
+    pub padded4: Option<Weights>,
+}
+
+/// `w` padded to exactly four influences per vertex (see [`SkinCache::padded4`]); `None`
+/// when a vertex has more than four or every vertex already has four.
+pub fn pad_to_four(w: &Weights) -> Option<Weights> {
+    let n = w.vertex_count();
+    let rows = (0..n).map(|v| w.influences(v));
+    if rows.clone().any(|(j, _)| j.len() > 4) || rows.clone().all(|(j, _)| j.len() == 4) {
+        return None;
+    }
+    let mut out = Weights {
+        offsets: Vec::with_capacity(n + 1),
+        joints: Vec::with_capacity(4 * n),
+        weights: Vec::with_capacity(4 * n),
+    };
+    out.offsets.push(0);
+    for (v, (js, ws)) in rows.enumerate() {
+        out.joints.extend_from_slice(js);
+        out.weights.extend_from_slice(ws);
+        for _ in js.len()..4 {
+            out.joints.push(u32::MAX);
+            out.weights.push(0.0);
+        }
+        out.offsets.push(u32::try_from(4 * (v + 1)).ok()?);
+    }
+    Some(out)
 }
 
 /// Per-thread scratch buffers of the deformation step (see the module docs).
@@ -214,7 +246,15 @@ impl SkinCluster {
             .iter()
             .map(|&b| if b.is_finite() { b.clamp(0.0, 1.0) as f32 } else { 0.0 })
             .collect();
-        ctx.set(self.cache, ObjectRef::new(SkinCache { weights, blend_weights }));
+        let padded4 = pad_to_four(&weights);
+        ctx.set(
+            self.cache,
+            ObjectRef::new(SkinCache {
+                weights,
+                blend_weights,
+                padded4,
+            }),
+        );
         Ok(())
     }
 
@@ -291,7 +331,10 @@ impl SkinCluster {
             let input = SkinInput {
                 positions: &mesh.positions,
                 normals: if skin_normals { &mesh.normals } else { &[] },
-                weights: &cache.weights,
+                weights: match (&cache.padded4, method) {
+                    (Some(p), SkinMethod::Linear) => p,
+                    _ => &cache.weights,
+                },
                 palette: &scratch.palette,
             };
             let output = SkinOutput {

@@ -221,6 +221,9 @@ impl Ctx<'_, '_> {
             // SAFETY: both slices hold four entries.
             return blend4(self.pal, js.as_ptr(), ws.as_ptr());
         }
+        if js.len() < 4 && ws.len() == js.len() {
+            return blend_short(self.pal, self.k.palette.len(), js, ws);
+        }
         let m = general_row(js, ws, self.k.palette)?;
         let f = m.as_ptr() as *const f32;
         // SAFETY: `[Vec4; 4]` is 16 contiguous `f32`.
@@ -319,6 +322,31 @@ struct Io {
     js: *const u32,
     ws: *const f32,
     count: usize,
+}
+
+/// A row of fewer than four influences, padded to four with `0 · ZERO` exactly as the
+/// portable [`super::skinning_lbs::pad4`] + `blend4` do. Validation is scalar: a vector
+/// load of a freshly padded array would stall on store-to-load forwarding.
+///
+/// # Safety
+/// AVX2; `js.len() == ws.len() < 4`; `len` is the palette length behind `pal`.
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn blend_short(pal: Palette, len: usize, js: &[u32], ws: &[f32]) -> Option<(__m256, __m256)> {
+    let zero = &ZERO as *const Mat4 as *const f32;
+    let mut m = [zero; 4];
+    let mut w = [0.0f32; 4];
+    for (k, (&j, &wk)) in js.iter().zip(ws).enumerate().take(4) {
+        if (j as usize) < len && wk.is_finite() {
+            // SAFETY: j < palette length.
+            m[k] = pal.base.add(j as usize) as *const f32;
+            w[k] = wk;
+        }
+    }
+    if (w[0] + w[1]) + (w[2] + w[3]) == 0.0 {
+        return None;
+    }
+    Some(blend_ptrs(m, w.as_ptr()))
 }
 
 /// A four-influence row: `Σ wₖ Mₖ` as `((M₀w₀ + M₁w₁) + (M₂w₂ + M₃w₃))`, `None` when the

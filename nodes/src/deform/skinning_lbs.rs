@@ -137,10 +137,24 @@ impl<'a> Lbs<'a> {
 /// (`(m₀w₀ + m₁w₁) + (m₂w₂ + m₃w₃)`), halving the dependency chain; other rows sum in order.
 #[inline(always)]
 pub(super) fn lbs_matrix(js: &[u32], ws: &[f32], palette: &[Mat4]) -> Option<[Vec4; 4]> {
-    match (<&[u32; 4]>::try_from(js), <&[f32; 4]>::try_from(ws)) {
-        (Ok(j4), Ok(w4)) => blend4(j4, w4, palette),
-        _ => blend_matrix(js, ws, palette),
+    match pad4(js, ws) {
+        Some((j4, w4)) => blend4(&j4, &w4, palette),
+        None => blend_matrix(js, ws, palette),
     }
+}
+
+/// A row of at most four influences as exactly four, padded with invalid influences (joint
+/// `u32::MAX`, weight 0) that [`blend4`] turns into `0 · ZERO`: the padded sum equals the
+/// in-order sum of the row up to the sign of zero, and takes the branch-free path.
+#[inline(always)]
+pub(super) fn pad4(js: &[u32], ws: &[f32]) -> Option<([u32; 4], [f32; 4])> {
+    if js.len() > 4 || ws.len() != js.len() {
+        return None;
+    }
+    let (mut j4, mut w4) = ([u32::MAX; 4], [0.0f32; 4]);
+    j4[..js.len()].copy_from_slice(js);
+    w4[..ws.len()].copy_from_slice(ws);
+    Some((j4, w4))
 }
 
 /// The four-influence path of [`lbs_matrix`]; invalid influences become `0 · ZERO`.

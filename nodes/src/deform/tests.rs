@@ -322,3 +322,48 @@ fn parallel_is_bit_identical_to_serial() {
         }
     }
 }
+
+/// Rows of fewer than four influences padded to four (`skinCluster`'s cache, so the uniform
+/// fast path applies) skin to exactly the same positions and normals as the sparse rows.
+#[test]
+fn padding_short_rows_to_four_changes_no_result() {
+    let (mesh, _, palette) = random_rig(2000, 16, 5);
+    let lists: Vec<Vec<(u32, f32)>> = (0..2000u32)
+        .map(|v| {
+            let n = 1 + (v % 4);
+            (0..n).map(|k| ((v + 3 * k) % 16, 1.0 / n as f32)).collect()
+        })
+        .collect();
+    let sparse = Weights::from_lists(lists);
+    let padded = super::skin_cluster::pad_to_four(&sparse).expect("rows of 1..=4 influences pad");
+    assert_eq!(padded.offsets.len(), 2001);
+    assert!(padded.offsets.iter().enumerate().all(|(v, &o)| o as usize == 4 * v));
+    assert_eq!(
+        padded.influences(0),
+        (&[0, u32::MAX, u32::MAX, u32::MAX][..], &[1.0, 0.0, 0.0, 0.0][..])
+    );
+    let run = |w: &Weights| {
+        let (mut p, mut n) = (vec![Vec3::ZERO; 2000], vec![Vec3::ZERO; 2000]);
+        let input = SkinInput {
+            positions: &mesh.positions,
+            normals: &mesh.normals,
+            weights: w,
+            palette: &palette,
+        };
+        let out = SkinOutput {
+            positions: &mut p,
+            normals: &mut n,
+        };
+        linear_blend(&input, out).expect("shapes match");
+        let bits = |v: &[Vec3]| -> Vec<u32> { v.iter().flat_map(|x| x.to_array().map(f32::to_bits)).collect() };
+        (bits(&p), bits(&n))
+    };
+    assert!(run(&sparse) == run(&padded));
+    let five = Weights::from_lists([vec![(0, 0.2); 5], vec![(1, 1.0)]]);
+    assert!(
+        super::skin_cluster::pad_to_four(&five).is_none(),
+        "a five-influence row cannot pad"
+    );
+    let four = Weights::from_lists([vec![(0, 0.25); 4]]);
+    assert!(super::skin_cluster::pad_to_four(&four).is_none(), "already uniform");
+}
