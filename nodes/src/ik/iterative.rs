@@ -158,7 +158,13 @@ pub fn solve_sc(chain: &Chain, goal: DVec3, iter: &IterParams, reach_params: &Re
     let x = g.distance(p0);
     let r = reach(x, total, reach_params);
     let u = aim_axis(g - p0, &rest_pos);
-    let sprep = prep.scaled(r.scale);
+    let scaled;
+    let sprep = if r.scale == 1.0 {
+        &prep
+    } else {
+        scaled = prep.scaled(r.scale);
+        &scaled
+    };
     let slengths: Vec<f64> = lengths.iter().map(|l| l * r.scale).collect();
     let stotal = total * r.scale;
     let target = p0 + u * r.distance;
@@ -179,7 +185,7 @@ pub fn solve_sc(chain: &Chain, goal: DVec3, iter: &IterParams, reach_params: &Re
                 let rot = sprep.rotations_from_positions(&pos, DQuat::IDENTITY, ortho(u), None);
                 (rot, it, err <= tol)
             }
-            IterMethod::Ccd => ccd(&sprep, target, tol, iter.max_iterations),
+            IterMethod::Ccd => ccd(sprep, target, tol, iter.max_iterations),
         }
     };
     let error = sprep.world_error(&rotations, goal);

@@ -135,7 +135,13 @@ pub fn solve_rotate_plane(
     let (rest_pos, _) = prep.fk(&prep.rest_rot);
     let p0 = rest_pos[0];
     let r = reach(g.distance(p0), total, reach_params);
-    let sprep = prep.scaled(r.scale);
+    let scaled;
+    let sprep = if r.scale == 1.0 {
+        &prep
+    } else {
+        scaled = prep.scaled(r.scale);
+        &scaled
+    };
     let slen: Vec<f64> = lengths.iter().map(|l| l * r.scale).collect();
     let stotal = total * r.scale;
     let spos: Vec<DVec3> = rest_pos.iter().map(|p| p0 + (*p - p0) * r.scale).collect();
