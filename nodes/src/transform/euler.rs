@@ -215,7 +215,9 @@ fn extract(m: &DMat3, order: RotateOrder, gimbal_last: f64) -> DVec3 {
     let [i, j, k] = order.axes();
     let p = order.parity();
     let (m_ii, m_ji, m_ki) = (at(m, i, i), at(m, j, i), at(m, k, i));
-    let cos_b = m_ii.hypot(m_ji);
+    // Entries of a rotation matrix are at most 1 in magnitude: a plain square root is exact
+    // enough (no overflow to guard against) and much cheaper than `hypot`.
+    let cos_b = (m_ii * m_ii + m_ji * m_ji).sqrt();
     let b = (-p * m_ki).atan2(cos_b);
     // cos/sin of c and b straight from the entries they were read from (no trigonometry).
     let (c, cc, sc) = if cos_b > GIMBAL_EPS {
@@ -224,7 +226,7 @@ fn extract(m: &DMat3, order: RotateOrder, gimbal_last: f64) -> DVec3 {
         let (s, c) = gimbal_last.sin_cos();
         (gimbal_last, c, s)
     };
-    let r = cos_b.hypot(m_ki);
+    let r = (cos_b * cos_b + m_ki * m_ki).sqrt();
     let (cb, sb) = if r > 0.0 {
         (cos_b / r, -p * m_ki / r)
     } else {
