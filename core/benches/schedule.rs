@@ -1,5 +1,7 @@
 //! Per-node overhead of the compiled schedule and cost of lazy re-evaluation,
-//! against a hand-written loop doing the same arithmetic (the baseline).
+//! against a hand-written loop doing the same arithmetic (the baseline). `chain` and `wide`
+//! use the test `add` node, which opts in to a scalar kernel; `chain_general_compute` is the
+//! same chain through an ordinary `compute` (the per-node cost of every other node type).
 //!
 //! Run: `cargo bench -p sinew-core --bench schedule`.
 
@@ -13,10 +15,16 @@ const N: usize = 10_000;
 
 /// time -> a0 -> a1 -> ... -> a{n-1}, each `add` adding 1.
 fn chain(n: usize) -> Graph {
+    chain_of("add", n)
+}
+
+/// [`chain`] of `node_type` nodes (`add` runs as a scalar kernel, `addGeneral` through
+/// `compute`).
+fn chain_of(node_type: &str, n: usize) -> Graph {
     let mut g = Graph::new(testing::registry().expect("registry"));
     g.add_node("timeSource", "t").expect("add");
     for i in 0..n {
-        g.add_node("add", &format!("a{i}")).expect("add");
+        g.add_node(node_type, &format!("a{i}")).expect("add");
         g.set_path(&format!("a{i}.input2"), Value::Float(1.0)).expect("set");
         let src = if i == 0 {
             "t.output".to_string()
@@ -58,7 +66,11 @@ fn compiled(c: &mut Criterion) {
             black_box(&values);
         })
     });
-    for (name, g) in [("chain", chain(N)), ("wide", wide(N))] {
+    for (name, g) in [
+        ("chain", chain(N)),
+        ("wide", wide(N)),
+        ("chain_general_compute", chain_of("addGeneral", N)),
+    ] {
         let program = Arc::new(Program::compile(&g, &CompileOptions::default()).expect("compile"));
         let mut inst = Instance::new(program);
         let mut frame = 0.0;

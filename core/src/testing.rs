@@ -45,6 +45,43 @@ impl NodeType for Add {
     }
 }
 
+/// `addGeneral`: the same arithmetic as [`Add`] through an ordinary `compute` (no
+/// scalar kernel), so benchmarks can report the general per-node path beside the kernel one.
+pub struct AddGeneral {
+    spec: NodeSpec,
+    a: crate::Input<f64>,
+    b: crate::Input<f64>,
+    out: crate::Output<f64>,
+}
+
+impl AddGeneral {
+    /// Creates the node type.
+    pub fn new() -> Result<Self, SpecError> {
+        let mut s = NodeSpec::builder("addGeneral");
+        s.doc("output = input1 + input2, through compute");
+        let a = s.input("input1", 0.0);
+        let b = s.input("input2", 0.0);
+        let out = s.output("output", 0.0);
+        Ok(AddGeneral {
+            spec: s.build()?,
+            a,
+            b,
+            out,
+        })
+    }
+}
+
+impl NodeType for AddGeneral {
+    fn spec(&self) -> &NodeSpec {
+        &self.spec
+    }
+    fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
+        let v = ctx.get(self.a) + ctx.get(self.b);
+        ctx.set(self.out, v);
+        Ok(())
+    }
+}
+
 /// `clampPositive`: `output = max(input, 0)`; fails on inputs below -1000
 /// (to test error paths).
 pub struct ClampPositive {
@@ -382,6 +419,7 @@ impl NodeType for CachedRamp {
 pub fn registry() -> Result<Arc<Registry>, SpecError> {
     let mut r = Registry::new();
     r.register(Add::new()?)?;
+    r.register(AddGeneral::new()?)?;
     r.register(ClampPositive::new()?)?;
     r.register(TwoGroups::new()?)?;
     r.register(VecScale::new()?)?;
