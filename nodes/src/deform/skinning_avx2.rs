@@ -330,8 +330,11 @@ struct Io {
 ///
 /// # Safety
 /// AVX2; `js.len() == ws.len() < 4`; `len` is the palette length behind `pal`.
+///
+/// Kept out of line (like [`general_row`]) so that [`Ctx::matrix`] stays small enough to be
+/// inlined into the uniform fast path; `skinCluster` pads short rows in its cache anyway.
 #[target_feature(enable = "avx2")]
-#[inline]
+#[inline(never)]
 unsafe fn blend_short(pal: Palette, len: usize, js: &[u32], ws: &[f32]) -> Option<(__m256, __m256)> {
     let zero = &ZERO as *const Mat4 as *const f32;
     let mut m = [zero; 4];
