@@ -9,7 +9,7 @@
 //! bit-identical.
 
 use crate::error::{ComputeError, SpecError};
-use crate::node::ComputeContext;
+use crate::node::{ComputeContext, NodeType};
 use crate::program::{AttrBinding, Binding};
 use crate::spec::{AttrId, Direction, Input, NodeSpec, Output};
 use crate::value::{AttrType, Value};
@@ -186,6 +186,36 @@ enum Code {
     General,
 }
 
+/// A node type whose whole compute is one [`ScalarKernel`]: the spec plus the kernel, with
+/// `compute` implemented as [`ScalarKernel::compute`]. Build the spec as usual and register
+/// `KernelNode::new(spec, inputs, output, op)?` instead of writing a type per node.
+#[derive(Debug)]
+pub struct KernelNode {
+    spec: NodeSpec,
+    kernel: ScalarKernel,
+}
+
+impl KernelNode {
+    /// The node type of `spec` computing `output = op(inputs...)`; fails as
+    /// [`ScalarKernel::new`] does.
+    pub fn new(spec: NodeSpec, inputs: &[Input<f64>], output: Output<f64>, op: ScalarOp) -> Result<Self, SpecError> {
+        let kernel = ScalarKernel::new(&spec, inputs, output, op)?;
+        Ok(KernelNode { spec, kernel })
+    }
+}
+
+impl NodeType for KernelNode {
+    fn spec(&self) -> &NodeSpec {
+        &self.spec
+    }
+    fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
+        self.kernel.compute(ctx)
+    }
+    fn scalar_kernel(&self) -> Option<&ScalarKernel> {
+        Some(&self.kernel)
+    }
+}
+
 /// A scalar kernel bound to the slots of one compiled step.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct KernelStep {
@@ -329,7 +359,7 @@ mod tests {
 
     fn registry() -> Arc<Registry> {
         let mut r = Registry::new();
-        r.register(testing::Add::new().unwrap()).unwrap();
+        r.register(testing::add().unwrap()).unwrap();
         r.register(testing::VecScale::new().unwrap()).unwrap();
         let mut s = NodeSpec::builder("fma3");
         let a = s.input("a", 0.0);

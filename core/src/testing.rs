@@ -7,45 +7,23 @@ use std::sync::Arc;
 use glam::{DMat4, DVec3};
 
 use crate::error::{ComputeError, SpecError};
-use crate::kernel::{ScalarKernel, ScalarOp};
+use crate::kernel::{KernelNode, ScalarOp};
 use crate::node::{ComputeContext, NodeType};
 use crate::registry::Registry;
 use crate::spec::{Input, MirrorRole, MultiInput, MultiOutput, NodeSpec, Output, Unit};
 
-/// `add`: `output = input1 + input2` (floats). Its compute is a
-/// [`ScalarKernel`], so compiled programs run it without a compute context.
-pub struct Add {
-    spec: NodeSpec,
-    kernel: ScalarKernel,
+/// `add`: `output = input1 + input2` (floats), a [`KernelNode`], so compiled programs run
+/// it without a compute context.
+pub fn add() -> Result<KernelNode, SpecError> {
+    let mut s = NodeSpec::builder("add");
+    s.doc("output = input1 + input2");
+    let a = s.input("input1", 0.0);
+    let b = s.input("input2", 0.0);
+    let out = s.output("output", 0.0);
+    KernelNode::new(s.build()?, &[a, b], out, ScalarOp::Add)
 }
 
-impl Add {
-    /// Creates the node type.
-    pub fn new() -> Result<Self, SpecError> {
-        let mut s = NodeSpec::builder("add");
-        s.doc("output = input1 + input2");
-        let a = s.input("input1", 0.0);
-        let b = s.input("input2", 0.0);
-        let out = s.output("output", 0.0);
-        let spec = s.build()?;
-        let kernel = ScalarKernel::new(&spec, &[a, b], out, ScalarOp::Add)?;
-        Ok(Add { spec, kernel })
-    }
-}
-
-impl NodeType for Add {
-    fn spec(&self) -> &NodeSpec {
-        &self.spec
-    }
-    fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
-        self.kernel.compute(ctx)
-    }
-    fn scalar_kernel(&self) -> Option<&ScalarKernel> {
-        Some(&self.kernel)
-    }
-}
-
-/// `addGeneral`: the same arithmetic as [`Add`] through an ordinary `compute` (no
+/// `addGeneral`: the same arithmetic as [`add`] through an ordinary `compute` (no
 /// scalar kernel), so benchmarks can report the general per-node path beside the kernel one.
 pub struct AddGeneral {
     spec: NodeSpec,
@@ -418,7 +396,7 @@ impl NodeType for CachedRamp {
 /// A registry with all the test node types.
 pub fn registry() -> Result<Arc<Registry>, SpecError> {
     let mut r = Registry::new();
-    r.register(Add::new()?)?;
+    r.register(add()?)?;
     r.register(AddGeneral::new()?)?;
     r.register(ClampPositive::new()?)?;
     r.register(TwoGroups::new()?)?;

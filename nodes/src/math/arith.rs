@@ -1,8 +1,9 @@
-//! Arithmetic utility nodes: `multiplyDivide`, `plusMinusAverage`, `reverse`, `unitConversion`.
+//! Arithmetic utility nodes: `multiplyDivide`, `plusMinusAverage`, `reverse`, `unitConversion`,
+//! `addDoubleLinear`, `multDoubleLinear`.
 
 use glam::DVec3;
 use sinew_core::{
-    ComputeContext, ComputeError, Input, MultiInput, NodeSpec, NodeType, Output, ScalarKernel, ScalarOp, SpecError,
+    ComputeContext, ComputeError, Input, KernelNode, MultiInput, NodeSpec, NodeType, Output, ScalarOp, SpecError,
 };
 
 use super::{finite, finite3, node_type};
@@ -191,112 +192,51 @@ node_type!(Reverse);
 /// Maya inserts it between plugs of different units (e.g. a degree plug into
 /// a unitless one, factor π/180). Overflow saturates at `±f64::MAX`.
 ///
-/// Its compute is a [`ScalarKernel`], so compiled programs run it straight
-/// over their slots (rigs exported from Maya contain many of these).
-pub struct UnitConversion {
-    spec: NodeSpec,
-    kernel: ScalarKernel,
+/// A [`KernelNode`], so compiled programs run it straight over their slots
+/// (rigs exported from Maya contain many of these).
+pub fn unit_conversion() -> Result<KernelNode, SpecError> {
+    let mut s = NodeSpec::builder("unitConversion");
+    s.doc("output = input * conversionFactor");
+    let input = s.input("input", 0.0);
+    let factor = s.input("conversionFactor", 1.0);
+    let output = s.output("output", 0.0);
+    KernelNode::new(s.build()?, &[input, factor], output, ScalarOp::Custom(product))
 }
 
-/// `finite(input * conversionFactor)`, the kernel of [`UnitConversion`].
-fn unit_conversion(x: &[f64]) -> f64 {
-    match x {
-        [input, factor, ..] => finite(input * factor),
-        _ => 0.0,
-    }
+/// Maya's `addDoubleLinear`: `output = input1 + input2`, overflow saturated at `±f64::MAX`;
+/// a [`KernelNode`].
+pub fn add_double_linear() -> Result<KernelNode, SpecError> {
+    scalar_pair("addDoubleLinear", "output = input1 + input2", sum)
 }
 
-impl UnitConversion {
-    /// Creates the node type.
-    pub fn new() -> Result<Self, SpecError> {
-        let mut s = NodeSpec::builder("unitConversion");
-        s.doc("output = input * conversionFactor");
-        let input = s.input("input", 0.0);
-        let factor = s.input("conversionFactor", 1.0);
-        let output = s.output("output", 0.0);
-        let spec = s.build()?;
-        let kernel = ScalarKernel::new(&spec, &[input, factor], output, ScalarOp::Custom(unit_conversion))?;
-        Ok(UnitConversion { spec, kernel })
-    }
+/// Maya's `multDoubleLinear`: `output = input1 · input2`, overflow saturated at `±f64::MAX`;
+/// a [`KernelNode`].
+pub fn mult_double_linear() -> Result<KernelNode, SpecError> {
+    scalar_pair("multDoubleLinear", "output = input1 * input2", product)
 }
 
-impl NodeType for UnitConversion {
-    fn spec(&self) -> &NodeSpec {
-        &self.spec
-    }
-    fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
-        self.kernel.compute(ctx)
-    }
-    fn scalar_kernel(&self) -> Option<&ScalarKernel> {
-        Some(&self.kernel)
-    }
+/// A node type `name` with float inputs `input1`, `input2` and `output = op(input1, input2)`.
+fn scalar_pair(name: &str, doc: &str, op: fn(&[f64]) -> f64) -> Result<KernelNode, SpecError> {
+    let mut s = NodeSpec::builder(name);
+    s.doc(doc);
+    let input1 = s.input("input1", 0.0);
+    let input2 = s.input("input2", 0.0);
+    let output = s.output("output", 0.0);
+    KernelNode::new(s.build()?, &[input1, input2], output, ScalarOp::Custom(op))
 }
 
-/// `a + b`, saturated: the kernel of [`AddDoubleLinear`].
-fn add_linear(x: &[f64]) -> f64 {
+/// `finite(a + b)`, the kernel of `addDoubleLinear`.
+fn sum(x: &[f64]) -> f64 {
     match x {
         [a, b, ..] => finite(a + b),
         _ => 0.0,
     }
 }
 
-/// `a · b`, saturated: the kernel of [`MultDoubleLinear`].
-fn mult_linear(x: &[f64]) -> f64 {
+/// `finite(a · b)`, the kernel of `unitConversion` and `multDoubleLinear`.
+fn product(x: &[f64]) -> f64 {
     match x {
         [a, b, ..] => finite(a * b),
         _ => 0.0,
     }
 }
-
-/// Declares a two-input scalar node `output = op(input1, input2)` run as a [`ScalarKernel`].
-macro_rules! scalar_pair_node {
-    ($ty:ident, $name:literal, $doc:literal, $op:expr) => {
-        #[doc = $doc]
-        ///
-        /// Overflow saturates at `±f64::MAX`. Its compute is a [`ScalarKernel`], so compiled
-        /// programs run it straight over their value slots.
-        pub struct $ty {
-            spec: NodeSpec,
-            kernel: ScalarKernel,
-        }
-
-        impl $ty {
-            /// Creates the node type.
-            pub fn new() -> Result<Self, SpecError> {
-                let mut s = NodeSpec::builder($name);
-                s.doc($doc);
-                let input1 = s.input("input1", 0.0);
-                let input2 = s.input("input2", 0.0);
-                let output = s.output("output", 0.0);
-                let spec = s.build()?;
-                let kernel = ScalarKernel::new(&spec, &[input1, input2], output, ScalarOp::Custom($op))?;
-                Ok($ty { spec, kernel })
-            }
-        }
-
-        impl NodeType for $ty {
-            fn spec(&self) -> &NodeSpec {
-                &self.spec
-            }
-            fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
-                self.kernel.compute(ctx)
-            }
-            fn scalar_kernel(&self) -> Option<&ScalarKernel> {
-                Some(&self.kernel)
-            }
-        }
-    };
-}
-
-scalar_pair_node!(
-    AddDoubleLinear,
-    "addDoubleLinear",
-    "Maya's `addDoubleLinear`: `output = input1 + input2`.",
-    add_linear
-);
-scalar_pair_node!(
-    MultDoubleLinear,
-    "multDoubleLinear",
-    "Maya's `multDoubleLinear`: `output = input1 · input2`.",
-    mult_linear
-);

@@ -63,9 +63,9 @@ pub fn register(registry: &mut Registry) -> Result<(), SpecError> {
     registry.register(arith::MultiplyDivide::new()?)?;
     registry.register(arith::PlusMinusAverage::new()?)?;
     registry.register(arith::Reverse::new()?)?;
-    registry.register(arith::UnitConversion::new()?)?;
-    registry.register(arith::AddDoubleLinear::new()?)?;
-    registry.register(arith::MultDoubleLinear::new()?)?;
+    registry.register(arith::unit_conversion()?)?;
+    registry.register(arith::add_double_linear()?)?;
+    registry.register(arith::mult_double_linear()?)?;
     registry.register(select::Condition::new()?)?;
     registry.register(select::BlendColors::new()?)?;
     registry.register(select::Clamp::new()?)?;
