@@ -264,14 +264,18 @@ pub fn retarget_with(
         .iter()
         .map(|&d| euler_to_quat(deg_to_rad(vec3(get(target, d, "rotateAxis"))), Default::default()))
         .collect();
+    // Source forward kinematics, once for the whole clip (ground, keys and foot planting).
+    let src_world: Vec<Vec<DMat4>> = (0..bvh.frame_count).map(|f| bvh.world_matrices(f)).collect();
     // Ground of the clip and rest heights above each skeleton's lowest rest joint.
-    let src_ground = (0..bvh.frame_count)
-        .flat_map(|f| bvh.world_matrices(f).into_iter().map(|m| m.w_axis.y))
+    let src_ground = src_world
+        .iter()
+        .flatten()
+        .map(|m| m.w_axis.y)
         .fold(f64::INFINITY, f64::min);
     let src_rest_low = src_rest_pos.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
     let src_rest_height = src_rest_pos[root_s].y - src_rest_low;
     let time = target.time();
-    for f in 0..bvh.frame_count {
+    for (f, sw) in src_world.iter().enumerate() {
         // The root's parent as the rig animates it (rest when it has no parent).
         let root_parent_world = match parent[root_t] {
             Some(p) => {
@@ -283,7 +287,6 @@ pub fn retarget_with(
             }
             None => DMat4::IDENTITY,
         };
-        let sw = bvh.world_matrices(f);
         let mut world_rot = vec![DQuat::IDENTITY; n];
         for i in 0..n {
             let prot = match parent[i] {
@@ -366,6 +369,7 @@ pub fn retarget_with(
     if opts.plant_feet {
         let input = PlantInput {
             bvh,
+            src_world: &src_world,
             dag: &dag,
             parent: &parent,
             src_of: &src_of,

@@ -95,6 +95,8 @@ pub struct FootContacts {
 pub(super) struct PlantInput<'a> {
     /// The motion.
     pub bvh: &'a Bvh,
+    /// The motion's world matrices per frame and joint (`Bvh::world_matrices`).
+    pub src_world: &'a [Vec<DMat4>],
     /// Target DAG nodes (indices below refer to this).
     pub dag: &'a [NodeId],
     /// DAG parent index per node.
@@ -277,7 +279,11 @@ pub(super) fn plant_feet(
 ) -> (Vec<FootContacts>, Vec<usize>) {
     let legs = legs(inp, warnings);
     let n = inp.bvh.frame_count;
-    let pos: Vec<Vec<DVec3>> = (0..n).map(|f| inp.bvh.world_positions(f)).collect();
+    let pos: Vec<Vec<DVec3>> = inp
+        .src_world
+        .iter()
+        .map(|w| w.iter().map(|m| m.w_axis.truncate()).collect())
+        .collect();
     let lowest = |joints: &[usize]| {
         pos.iter()
             .flat_map(|p| joints.iter().map(|&j| p[j].y))
