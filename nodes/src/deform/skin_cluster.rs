@@ -55,6 +55,7 @@ use sinew_core::{
 use super::dual_quat::DqPalette;
 use super::mesh_nodes::copy_topology;
 use super::skinning::{skin, skin_parallel, SkinInput, SkinMethod, SkinOutput};
+use super::skinning_lbs::pad4;
 use super::weights;
 
 /// Meshes with at least this many vertices are skinned in parallel.
@@ -85,8 +86,7 @@ pub struct SkinCache {
 /// when a vertex has more than four or every vertex already has four.
 pub fn pad_to_four(w: &Weights) -> Option<Weights> {
     let n = w.vertex_count();
-    let rows = (0..n).map(|v| w.influences(v));
-    if rows.clone().any(|(j, _)| j.len() > 4) || rows.clone().all(|(j, _)| j.len() == 4) {
+    if (0..n).all(|v| w.influences(v).0.len() == 4) {
         return None;
     }
     let mut out = Weights {
@@ -95,13 +95,12 @@ pub fn pad_to_four(w: &Weights) -> Option<Weights> {
         weights: Vec::with_capacity(4 * n),
     };
     out.offsets.push(0);
-    for (v, (js, ws)) in rows.enumerate() {
-        out.joints.extend_from_slice(js);
-        out.weights.extend_from_slice(ws);
-        for _ in js.len()..4 {
-            out.joints.push(u32::MAX);
-            out.weights.push(0.0);
-        }
+    for v in 0..n {
+        let (js, ws) = w.influences(v);
+        // The kernels' own padding of short rows, so both paths agree bit for bit.
+        let (j4, w4) = pad4(js, ws)?;
+        out.joints.extend_from_slice(&j4);
+        out.weights.extend_from_slice(&w4);
         out.offsets.push(u32::try_from(4 * (v + 1)).ok()?);
     }
     Some(out)

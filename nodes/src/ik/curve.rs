@@ -15,6 +15,9 @@ pub use sinew_core::data::{Curve, CurveForm};
 
 use glam::DVec3;
 
+/// Largest degree evaluated without allocating (higher degrees fall back to a `Vec`).
+const STACK_DEGREE: usize = 7;
+
 /// Samples per non-empty knot span in the arc-length table.
 const SAMPLES_PER_SPAN: usize = 64;
 
@@ -144,12 +147,7 @@ impl BSpline {
         let k = self.span(t);
         de_boor(self.degree - 1, &self.knots[1..], &self.dpoints, k - 1, t)
     }
-}
 
-/// Largest degree evaluated without allocating (higher degrees fall back to a `Vec`).
-const STACK_DEGREE: usize = 7;
-
-impl BSpline {
     /// The curve points at increasing parameters `ts` (each in the domain, as the arc-length
     /// table's samples are). Per span the control points, knots and the reciprocals of the
     /// de Boor denominators are gathered once, so each point costs only multiplications and
@@ -159,18 +157,12 @@ impl BSpline {
         if p > STACK_DEGREE {
             return ts.iter().map(|&t| self.point(t)).collect();
         }
-        let n = self.points.len();
         let mut out = Vec::with_capacity(ts.len());
         let mut span = usize::MAX;
         let mut local = SpanLocal::default();
         for &t in ts {
             let t = self.normalize_param(t);
-            // Increasing parameters: step the span forward instead of searching for it.
-            let k = if span != usize::MAX && self.knots[span] <= t && (t < self.knots[span + 1] || span == n - 1) {
-                span
-            } else {
-                self.span(t)
-            };
+            let k = self.span(t);
             if k != span {
                 span = k;
                 local = SpanLocal::new(p, &self.knots, &self.points, k);
