@@ -1,14 +1,19 @@
 //! Skinning throughput: 100,000 vertices, 4 influences each, 64 joints. In one run:
 //! - `baseline_copy_inputs`: copies the bytes LBS reads for positions (positions + CSR
 //!   weights) into output buffers: the memory-bandwidth floor;
-//! - the raw kernels (`lbs_*`, `dqs_*`, serial and parallel, with and without normals);
+//! - the raw kernels (`lbs_*`, `dqs_*`, serial and parallel, with and without normals), on
+//!   raw weights (validated per vertex on every call) and, for `*_prepared`, on
+//!   [`PreparedWeights`] validated once (what `skinCluster` caches);
 //! - `node_skincluster_*_compiled`: a `skinCluster` node in a compiled program, one joint
 //!   matrix set per frame (a dynamic input), so each iteration runs the palette and the
 //!   deformation steps exactly as a game loop would.
 //!
 //! Criterion reports elements/s (vertices/s); divide 1e9 by it for ns per vertex. Before the
 //! benchmarks, the node loop is also run with a counting allocator and the allocations per
-//! compiled frame are printed.
+//! compiled frame are printed, and so is an interleaved comparison: copy, LBS and prepared LBS
+//! run alternately 300 times and the fastest run of each is reported with its ratio to the
+//! copy. Alternating makes the ratio immune to the machine's drift between criterion's
+//! separate measurements (each minimum is that kernel's cost with the least interference).
 //!
 //! Run briefly: `cargo bench -p sinew-nodes --no-default-features --bench skinning --
 //! --warm-up-time 1 --measurement-time 3`.
@@ -21,7 +26,7 @@ use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughpu
 use glam::{DMat4, DVec3, Mat4, Quat, Vec3};
 use sinew_core::{CompileOptions, Graph, Instance, Mesh, Program, Time, Value, Weights};
 use sinew_nodes::deform::dual_quat::DqPalette;
-use sinew_nodes::deform::skinning::{skin, skin_parallel, SkinInput, SkinMethod, SkinOutput};
+use sinew_nodes::deform::skinning::{skin, skin_parallel, PreparedWeights, SkinInput, SkinMethod, SkinOutput};
 
 struct Counting;
 static ALLOCS: AtomicUsize = AtomicUsize::new(0);
@@ -149,9 +154,82 @@ fn report_allocations(r: &Rig) {
     }
 }
 
+/// The bytes LBS reads for positions, copied into output buffers: the bandwidth baseline.
+struct CopyBaseline {
+    positions: Vec<Vec3>,
+    offsets: Vec<u32>,
+    joints: Vec<u32>,
+    weights: Vec<f32>,
+}
+
+impl CopyBaseline {
+    fn new(r: &Rig) -> Self {
+        CopyBaseline {
+            positions: vec![Vec3::ZERO; VERTICES],
+            offsets: vec![0; r.weights.offsets.len()],
+            joints: vec![0; r.weights.joints.len()],
+            weights: vec![0.0; r.weights.weights.len()],
+        }
+    }
+
+    fn run(&mut self, r: &Rig) {
+        self.positions.copy_from_slice(black_box(&r.positions));
+        self.offsets.copy_from_slice(black_box(&r.weights.offsets));
+        self.joints.copy_from_slice(black_box(&r.weights.joints));
+        self.weights.copy_from_slice(black_box(&r.weights.weights));
+        black_box((&self.positions, &self.offsets, &self.joints, &self.weights));
+    }
+}
+
+/// Copy, LBS on raw weights and LBS on prepared weights, alternately; prints each one's
+/// fastest run and its ratio to the copy's.
+fn report_interleaved(r: &Rig, prepared: &PreparedWeights) {
+    let mut copy = CopyBaseline::new(r);
+    let mut out = vec![Vec3::ZERO; VERTICES];
+    let mut scratch = DqPalette::new();
+    let raw = SkinInput {
+        positions: &r.positions,
+        normals: &[],
+        weights: (&r.weights).into(),
+        palette: &r.palette,
+    };
+    let prep = SkinInput {
+        weights: prepared.into(),
+        ..raw
+    };
+    let mut best = [f64::MAX; 3];
+    for _ in 0..300 {
+        let t = std::time::Instant::now();
+        copy.run(r);
+        best[0] = best[0].min(t.elapsed().as_secs_f64());
+        for (k, input) in [(1, &raw), (2, &prep)] {
+            let t = std::time::Instant::now();
+            let o = SkinOutput {
+                positions: &mut out,
+                normals: &mut [],
+            };
+            skin(black_box(input), SkinMethod::Linear, &mut scratch, o).unwrap();
+            black_box(&out);
+            best[k] = best[k].min(t.elapsed().as_secs_f64());
+        }
+    }
+    let us = |s: f64| s * 1e6;
+    println!(
+        "interleaved, fastest of 300: copy {:.1} µs; LBS positions {:.1} µs ({:.2}× copy); prepared {:.1} µs ({:.2}× copy)",
+        us(best[0]),
+        us(best[1]),
+        best[1] / best[0],
+        us(best[2]),
+        best[2] / best[0]
+    );
+}
+
 fn bench(c: &mut Criterion) {
     let r = rig();
     report_allocations(&r);
+    let prepared = PreparedWeights::new(&r.weights);
+    assert!(prepared.clean_max_joint().is_some(), "the bench weights are clean");
+    report_interleaved(&r, &prepared);
     let mut g = c.benchmark_group("skinning_100k_4inf_64j");
     g.throughput(Throughput::Elements(VERTICES as u64));
     let mut out_p = vec![Vec3::ZERO; VERTICES];
@@ -160,29 +238,33 @@ fn bench(c: &mut Criterion) {
 
     // Baseline: copy every input byte LBS reads for positions (positions + offsets + joints
     // + weights) into output buffers.
-    let mut cp_off = vec![0u32; r.weights.offsets.len()];
-    let mut cp_j = vec![0u32; r.weights.joints.len()];
-    let mut cp_w = vec![0f32; r.weights.weights.len()];
-    g.bench_function("baseline_copy_inputs", |b| {
-        b.iter(|| {
-            out_p.copy_from_slice(black_box(&r.positions));
-            cp_off.copy_from_slice(black_box(&r.weights.offsets));
-            cp_j.copy_from_slice(black_box(&r.weights.joints));
-            cp_w.copy_from_slice(black_box(&r.weights.weights));
-            black_box((&out_p, &cp_off, &cp_j, &cp_w));
-        })
-    });
+    let mut copy = CopyBaseline::new(&r);
+    g.bench_function("baseline_copy_inputs", |b| b.iter(|| copy.run(&r)));
+    drop(copy);
 
     let with_n = SkinInput {
         positions: &r.positions,
         normals: &r.normals,
-        weights: &r.weights,
+        weights: (&r.weights).into(),
         palette: &r.palette,
     };
     let no_n = SkinInput { normals: &[], ..with_n };
-    let cases: [(&str, SkinInput, SkinMethod, bool, bool); 6] = [
+    let prep_n = SkinInput {
+        weights: (&prepared).into(),
+        ..with_n
+    };
+    let prep = SkinInput { normals: &[], ..prep_n };
+    let cases: [(&str, SkinInput, SkinMethod, bool, bool); 8] = [
         ("lbs_positions", no_n, SkinMethod::Linear, false, false),
+        ("lbs_positions_prepared", prep, SkinMethod::Linear, false, false),
         ("lbs_positions_normals", with_n, SkinMethod::Linear, true, false),
+        (
+            "lbs_positions_normals_prepared",
+            prep_n,
+            SkinMethod::Linear,
+            true,
+            false,
+        ),
         ("dqs_positions", no_n, SkinMethod::DualQuaternion, false, false),
         ("dqs_positions_normals", with_n, SkinMethod::DualQuaternion, true, false),
         ("lbs_positions_normals_parallel", with_n, SkinMethod::Linear, true, true),

@@ -10,6 +10,7 @@
 //! | --- | --- |
 //! | [`primitives`] | procedural meshes (plane, box, UV sphere, cylinder, capsule) with normals and UVs |
 //! | [`weights`] | skin weight hygiene: normalize, prune, build from dense rows, validate |
+//! | [`skin_weights`] | weights prepared once for the skinning kernels (padded, validated) |
 //! | [`skinning`] | linear blend, dual quaternion and weight-blended skinning, serial and parallel |
 //! | [`dual_quat`] | unit dual quaternions and the palette conversion used by DQ skinning |
 //! | [`blend_shape`] | sparse blend shape targets with in-betweens, weight maps and envelope |
@@ -46,6 +47,7 @@ pub mod pose_reader;
 pub mod pose_reader_node;
 pub mod primitives;
 pub mod skin_cluster;
+pub mod skin_weights;
 pub mod skinning;
 mod skinning_avx2;
 mod skinning_lbs;

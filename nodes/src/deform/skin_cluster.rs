@@ -54,8 +54,7 @@ use sinew_core::{
 
 use super::dual_quat::DqPalette;
 use super::mesh_nodes::copy_topology;
-use super::skinning::{skin, skin_parallel, SkinInput, SkinMethod, SkinOutput};
-use super::skinning_lbs::pad4;
+use super::skinning::{skin, skin_parallel, PreparedWeights, SkinInput, SkinMethod, SkinOutput};
 use super::weights;
 
 /// Meshes with at least this many vertices are skinned in parallel.
@@ -74,36 +73,11 @@ pub struct SkinCache {
     pub weights: Weights,
     /// `blendWeights` as `f32`, clamped to `[0, 1]` (non-finite entries become 0).
     pub blend_weights: Vec<f32>,
-    /// When every vertex has at most four influences but not all exactly four (e.g. glTF
-    /// weights with zero entries dropped): `weights` padded to exactly four per vertex with
-    /// invalid influences (joint `u32::MAX`, weight 0), which the skinning kernels treat as
-    /// absent. It lets every vertex take the uniform four-influence fast path, with the
-    /// same result as the unpadded rows (the kernels pad short rows the same way).
-    pub padded4: Option<Weights>,
-}
-
-/// `w` padded to exactly four influences per vertex (see [`SkinCache::padded4`]); `None`
-/// when a vertex has more than four or every vertex already has four.
-pub fn pad_to_four(w: &Weights) -> Option<Weights> {
-    let n = w.vertex_count();
-    if (0..n).all(|v| w.influences(v).0.len() == 4) {
-        return None;
-    }
-    let mut out = Weights {
-        offsets: Vec::with_capacity(n + 1),
-        joints: Vec::with_capacity(4 * n),
-        weights: Vec::with_capacity(4 * n),
-    };
-    out.offsets.push(0);
-    for v in 0..n {
-        let (js, ws) = w.influences(v);
-        // The kernels' own padding of short rows, so both paths agree bit for bit.
-        let (j4, w4) = pad4(js, ws)?;
-        out.joints.extend_from_slice(&j4);
-        out.weights.extend_from_slice(&w4);
-        out.offsets.push(u32::try_from(4 * (v + 1)).ok()?);
-    }
-    Some(out)
+    /// `weights` prepared for linear blend skinning: rows of at most four influences padded
+    /// to four (e.g. glTF weights with zero entries dropped) so every vertex takes the
+    /// uniform fast path, and validated once so clean weights skip the per-frame check.
+    /// Same results as `weights`, bit for bit.
+    pub prepared: PreparedWeights,
 }
 
 /// Per-thread scratch buffers of the deformation step (see the module docs).
@@ -245,13 +219,13 @@ impl SkinCluster {
             .iter()
             .map(|&b| if b.is_finite() { b.clamp(0.0, 1.0) as f32 } else { 0.0 })
             .collect();
-        let padded4 = pad_to_four(&weights);
+        let prepared = PreparedWeights::new(&weights);
         ctx.set(
             self.cache,
             ObjectRef::new(SkinCache {
                 weights,
                 blend_weights,
-                padded4,
+                prepared,
             }),
         );
         Ok(())
@@ -330,9 +304,9 @@ impl SkinCluster {
             let input = SkinInput {
                 positions: &mesh.positions,
                 normals: if skin_normals { &mesh.normals } else { &[] },
-                weights: match (&cache.padded4, method) {
-                    (Some(p), SkinMethod::Linear) => p,
-                    _ => &cache.weights,
+                weights: match method {
+                    SkinMethod::Linear => (&cache.prepared).into(),
+                    _ => (&cache.weights).into(),
                 },
                 palette: &scratch.palette,
             };

@@ -3,7 +3,8 @@
 //! parallel.
 //!
 //! Contract (ozz-style job):
-//! - inputs: rest positions and (optionally) rest normals, sparse [`Weights`], and a palette
+//! - inputs: rest positions and (optionally) rest normals, sparse [`Weights`](sinew_core::data::Weights) (raw or
+//!   [`PreparedWeights`]), and a palette
 //!   of `f32` matrices `jointWorld × bindPreMatrix`, one per joint;
 //! - outputs: caller-provided slices of the same length as the inputs; nothing is allocated
 //!   per call (DQS converts the palette into a caller-owned [`DqPalette`]);
@@ -39,7 +40,10 @@
 //! run time: a palette matrix is two 256-bit registers, eight vertices' influences are
 //! validated at once (falling back to per-vertex checks for a group holding any invalid,
 //! negative or all-zero influence), and normals are normalized 64 at a time, 8 lanes per
-//! vector square root and division. Other CPUs run the portable kernel.
+//! vector square root and division. Other CPUs run the portable kernel. With
+//! [`PreparedWeights`] (validated once when the weights change; `skinCluster` caches them)
+//! whose every joint indexes the palette, the per-frame validation is skipped altogether,
+//! about a sixth of the kernel's time, with identical results.
 //!
 //! Determinism: serial and parallel variants run the same per-vertex arithmetic, so their
 //! results are bit-identical; the parallel one splits the vertices into chunks of [`CHUNK`].
@@ -48,10 +52,10 @@
 //! kernels are compiled a second time with AVX2 enabled (no FMA either).
 
 use super::dual_quat::{DqJoint, DqPalette, DualQuat};
+pub use super::skin_weights::{PreparedWeights, SkinWeights};
 use super::skinning_lbs::{cofactor_transform, lbs_matrix, Lbs};
 use glam::{Mat3A, Mat4, Vec3, Vec3A, Vec4};
 use rayon::prelude::*;
-use sinew_core::data::Weights;
 
 /// Vertices per parallel work item.
 pub const CHUNK: usize = 4096;
@@ -63,8 +67,9 @@ pub struct SkinInput<'a> {
     pub positions: &'a [Vec3],
     /// Rest normals, one per vertex, or empty to skip normals.
     pub normals: &'a [Vec3],
-    /// Skin weights covering exactly the vertices of `positions`.
-    pub weights: &'a Weights,
+    /// Skin weights covering exactly the vertices of `positions`: raw [`Weights`]
+    /// (`(&w).into()`), or [`PreparedWeights`] checked once when they changed.
+    pub weights: SkinWeights<'a>,
     /// Skinning matrices `jointWorld × bindPreMatrix`, indexed by the weights' joint indices.
     pub palette: &'a [Mat4],
 }
@@ -177,9 +182,10 @@ fn check_len(name: &'static str, len: usize, expected: usize) -> Result<(), Skin
 impl<'a> Kernel<'a> {
     fn prepare_lbs(input: &SkinInput<'a>, out: &SkinOutput<'_>) -> Result<Self, SkinError> {
         let n = input.positions.len();
-        if input.weights.vertex_count() != n {
+        let weights = input.weights.weights();
+        if weights.vertex_count() != n {
             return Err(SkinError::WeightCount {
-                weights: input.weights.vertex_count(),
+                weights: weights.vertex_count(),
                 positions: n,
             });
         }
@@ -192,10 +198,11 @@ impl<'a> Kernel<'a> {
             lbs: Lbs {
                 positions: input.positions,
                 normals: input.normals,
-                offsets: &input.weights.offsets,
-                joints: &input.weights.joints,
-                weights: &input.weights.weights,
+                offsets: &weights.offsets,
+                joints: &weights.joints,
+                weights: &weights.weights,
                 palette: input.palette,
+                trusted: input.weights.trusted(input.palette.len()),
             },
             dq: &[],
             has_stretch: false,
@@ -371,7 +378,7 @@ mod tests {
         let input = SkinInput {
             positions: &mesh.positions,
             normals: &mesh.normals,
-            weights: &w,
+            weights: (&w).into(),
             palette: &palette,
         };
         let bits = |v: &[Vec3]| -> Vec<u32> { v.iter().flat_map(|x| x.to_array().map(f32::to_bits)).collect() };

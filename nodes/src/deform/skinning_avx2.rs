@@ -36,17 +36,24 @@ pub(super) unsafe fn run(k: &Lbs<'_>, start: usize, out_p: &mut [Vec3], out_n: &
     let Some(pos) = pos.filter(|_| k.palette.len() <= MAX_JOINTS) else {
         return k.run_generic(start, out_p, out_n);
     };
-    let uniform = k.uniform4(start, count);
+    let trusted = k.trusted.then(|| k.rows4(start, count)).flatten();
+    let uniform = trusted.or_else(|| k.uniform4(start, count));
     let pal = Palette {
         base: k.palette.as_ptr(),
         len_x: _mm256_set1_epi32((k.palette.len() as u32 ^ SIGN) as i32),
     };
     let ctx = Ctx { k, pal, start, pos };
-    match (out_n.is_empty(), nrm, uniform) {
-        (true, _, Some((j, w))) => ctx.drive::<false, true>(out_p, &mut [], &[], j, w),
-        (true, _, None) => ctx.drive::<false, false>(out_p, &mut [], &[], &[], &[]),
-        (false, Some(n), Some((j, w))) if out_n.len() == count => ctx.drive::<true, true>(out_p, out_n, n, j, w),
-        (false, Some(n), None) if out_n.len() == count => ctx.drive::<true, false>(out_p, out_n, n, &[], &[]),
+    match (out_n.is_empty(), nrm, uniform, trusted.is_some()) {
+        (true, _, Some((j, w)), true) => ctx.drive::<false, true, true>(out_p, &mut [], &[], j, w),
+        (true, _, Some((j, w)), false) => ctx.drive::<false, true, false>(out_p, &mut [], &[], j, w),
+        (true, _, None, _) => ctx.drive::<false, false, false>(out_p, &mut [], &[], &[], &[]),
+        (false, Some(n), Some((j, w)), true) if out_n.len() == count => {
+            ctx.drive::<true, true, true>(out_p, out_n, n, j, w)
+        }
+        (false, Some(n), Some((j, w)), false) if out_n.len() == count => {
+            ctx.drive::<true, true, false>(out_p, out_n, n, j, w)
+        }
+        (false, Some(n), None, _) if out_n.len() == count => ctx.drive::<true, false, false>(out_p, out_n, n, &[], &[]),
         _ => k.run_generic(start, out_p, out_n),
     }
 }
@@ -74,12 +81,13 @@ struct Ctx<'a, 'b> {
 
 impl Ctx<'_, '_> {
     /// The main loop. `N`: with normals (`nrm` and `out_n` as long as `out_p`); `U`: uniform
-    /// rows, `js`/`ws` hold `4 · count` entries (else rows are looked up per vertex).
+    /// rows, `js`/`ws` hold `4 · count` entries (else rows are looked up per vertex); `T`
+    /// (with `U`): the rows are known to pass [`check8`] ([`Lbs::trusted`]), so it is skipped.
     ///
     /// # Safety
     /// AVX2; `self.pos.len() == out_p.len()`, the other slices as described.
     #[target_feature(enable = "avx2")]
-    unsafe fn drive<const N: bool, const U: bool>(
+    unsafe fn drive<const N: bool, const U: bool, const T: bool>(
         &self,
         out_p: &mut [Vec3],
         out_n: &mut [Vec3],
@@ -107,7 +115,7 @@ impl Ctx<'_, '_> {
         while b0 < count {
             let n = BLOCK.min(count - b0);
             // SAFETY: b0 + n ≤ count.
-            let has = self.span::<N, U>(&io, &mut buf, b0, n);
+            let has = self.span::<N, U, T>(&io, &mut buf, b0, n);
             if N {
                 // SAFETY: as above.
                 normalize_block(&io, &mut buf, b0, n, has);
@@ -124,20 +132,27 @@ impl Ctx<'_, '_> {
     /// AVX2; `n ≤ BLOCK`, `b0 + n ≤ count`; the slices of `io` as in [`Ctx::drive`].
     #[target_feature(enable = "avx2")]
     #[inline]
-    unsafe fn span<const N: bool, const U: bool>(&self, io: &Io, buf: &mut Block, b0: usize, n: usize) -> u64 {
+    unsafe fn span<const N: bool, const U: bool, const T: bool>(
+        &self,
+        io: &Io,
+        buf: &mut Block,
+        b0: usize,
+        n: usize,
+    ) -> u64 {
         let mut has = 0u64;
         let mut l = 0;
         if U {
             while l + 8 <= n {
                 let v = b0 + l;
                 // SAFETY: rows v..v + 8 are within the 4 · count entries.
-                if check8(self.pal, io.js.add(4 * v), io.ws.add(4 * v)) {
+                if T || check8(self.pal, io.js.add(4 * v), io.ws.add(4 * v)) {
                     let base = self.pal.base as *const u8;
                     for k in 0..8 {
                         // Joints reloaded as scalars: reading them back from a vector store
                         // would stall on store-to-load forwarding.
                         let o = io.js.add(4 * (v + k));
-                        // SAFETY: `check8` proved every joint < palette length.
+                        // SAFETY: `check8` (or, with `T`, the prepared weights) proved every joint <
+                        // palette length.
                         let m = [
                             base.add((*o as usize) << 6) as *const f32,
                             base.add((*o.add(1) as usize) << 6) as *const f32,

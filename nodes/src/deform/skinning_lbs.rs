@@ -22,6 +22,11 @@ pub(super) struct Lbs<'a> {
     pub weights: &'a [f32],
     /// Skinning matrices.
     pub palette: &'a [Mat4],
+    /// Every vertex has four influences stored back to back from offset 0, each with a
+    /// joint below `palette.len()`, a finite weight `≥ 0`, and a positive weight per row
+    /// (see [`super::skin_weights::PreparedWeights`]): the SIMD kernel skips its
+    /// per-vertex validation, which would pass anyway.
+    pub trusted: bool,
 }
 
 impl<'a> Lbs<'a> {
@@ -59,6 +64,14 @@ impl<'a> Lbs<'a> {
             return None;
         }
         let r = base as usize..base as usize + 4 * count;
+        Some((self.joints.get(r.clone())?, self.weights.get(r)?))
+    }
+
+    /// The joints and weights of vertices `start..start + count` when rows are four
+    /// influences stored back to back from offset 0 (as [`Lbs::trusted`] promises), with no
+    /// scan of the offsets; `None` when the slices are too short.
+    pub fn rows4(&self, start: usize, count: usize) -> Option<(&'a [u32], &'a [f32])> {
+        let r = start.checked_mul(4)?..start.checked_add(count)?.checked_mul(4)?;
         Some((self.joints.get(r.clone())?, self.weights.get(r)?))
     }
 
@@ -346,10 +359,42 @@ mod tests {
                 joints: &w.joints,
                 weights: &w.weights,
                 palette: &pal,
+                trusted: false,
             };
             assert_kernels_agree(&lbs, what);
             assert_kernels_agree(&Lbs { palette: &[], ..lbs }, "empty palette");
         }
+    }
+
+    /// Prepared clean weights skip the SIMD kernel's validation ([`Lbs::trusted`]) and still
+    /// give the bits of the portable kernel, which validates every influence.
+    #[test]
+    fn trusted_rows_skip_validation_without_changing_a_bit() {
+        let (n, joints) = (1000, 24);
+        let (pos, nrm, pal) = rig(n, joints, 7);
+        let mut r = rng(11);
+        // Joints up to `joints` index the singular zero matrix too; some zero weights.
+        let clean = Weights::from_lists((0..n).map(|v| {
+            let mut row = row(&mut r, 4, joints + 1, false);
+            if v % 5 == 0 {
+                row[1].1 = 0.0;
+            }
+            row
+        }));
+        let prepared = super::super::skin_weights::PreparedWeights::new(&clean);
+        let w = prepared.weights();
+        assert!(prepared.clean_max_joint().is_some_and(|m| (m as usize) < pal.len()));
+        let lbs = Lbs {
+            positions: &pos,
+            normals: &nrm,
+            offsets: &w.offsets,
+            joints: &w.joints,
+            weights: &w.weights,
+            palette: &pal,
+            trusted: true,
+        };
+        assert_kernels_agree(&lbs, "trusted");
+        assert!(lbs.rows4(n - 2, 3).is_none(), "rows past the end");
     }
 
     #[test]
@@ -362,6 +407,7 @@ mod tests {
             joints: &w.joints,
             weights: &w.weights,
             palette: &[],
+            trusted: false,
         };
         assert_eq!(
             lbs.uniform4(1, 2).map(|(j, _)| j.to_vec()),
@@ -401,6 +447,7 @@ mod tests {
             joints: &w.joints,
             weights: &w.weights,
             palette: &pal,
+            trusted: false,
         };
         let (mut p, mut n) = ([Vec3::NAN; 2], [Vec3::NAN; 2]);
         lbs.run(0, &mut p, &mut n);

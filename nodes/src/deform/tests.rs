@@ -14,7 +14,7 @@ fn run(mesh: &Mesh, w: &Weights, palette: &[Mat4], method: SkinMethod<'_>) -> (V
     let input = SkinInput {
         positions: &mesh.positions,
         normals: &mesh.normals,
-        weights: w,
+        weights: w.into(),
         palette,
     };
     skin(
@@ -204,7 +204,7 @@ fn bad_influences_are_skipped_and_bad_buffers_are_errors() {
     let input = SkinInput {
         positions: &mesh.positions,
         normals: &[],
-        weights: &w,
+        weights: (&w).into(),
         palette: &palette,
     };
     let mut short = vec![Vec3::ZERO; 2];
@@ -217,7 +217,10 @@ fn bad_influences_are_skipped_and_bad_buffers_are_errors() {
     );
     assert!(matches!(err, Err(SkinError::BufferLength { expected: 3, .. })));
     let two = Weights::from_lists([vec![(0, 1.0)]]);
-    let input = SkinInput { weights: &two, ..input };
+    let input = SkinInput {
+        weights: (&two).into(),
+        ..input
+    };
     let mut out = vec![Vec3::ZERO; 3];
     let err = linear_blend(
         &input,
@@ -269,7 +272,7 @@ fn parallel_is_bit_identical_to_serial() {
     let input = SkinInput {
         positions: &mesh.positions,
         normals: &mesh.normals,
-        weights: &w,
+        weights: (&w).into(),
         palette: &palette,
     };
     let n = mesh.positions.len();
@@ -335,7 +338,7 @@ fn padding_short_rows_to_four_changes_no_result() {
         })
         .collect();
     let sparse = Weights::from_lists(lists);
-    let padded = super::skin_cluster::pad_to_four(&sparse).expect("rows of 1..=4 influences pad");
+    let padded = super::skin_weights::pad_to_four(&sparse).expect("rows of 1..=4 influences pad");
     assert_eq!(padded.offsets.len(), 2001);
     assert!(padded.offsets.iter().enumerate().all(|(v, &o)| o as usize == 4 * v));
     assert_eq!(
@@ -347,7 +350,7 @@ fn padding_short_rows_to_four_changes_no_result() {
         let input = SkinInput {
             positions: &mesh.positions,
             normals: &mesh.normals,
-            weights: w,
+            weights: w.into(),
             palette: &palette,
         };
         let out = SkinOutput {
@@ -361,9 +364,9 @@ fn padding_short_rows_to_four_changes_no_result() {
     assert!(run(&sparse) == run(&padded));
     let five = Weights::from_lists([vec![(0, 0.2); 5], vec![(1, 1.0)]]);
     assert!(
-        super::skin_cluster::pad_to_four(&five).is_none(),
+        super::skin_weights::pad_to_four(&five).is_none(),
         "a five-influence row cannot pad"
     );
     let four = Weights::from_lists([vec![(0, 0.25); 4]]);
-    assert!(super::skin_cluster::pad_to_four(&four).is_none(), "already uniform");
+    assert!(super::skin_weights::pad_to_four(&four).is_none(), "already uniform");
 }
