@@ -32,7 +32,7 @@ pub(crate) fn deg(v: DVec3) -> DVec3 {
 
 /// One target as the constraint sees it: its effective world matrix
 /// (`targetWorldMatrix[i] * targetOffset[i]`, glam) and its weight (> 0).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct Target {
     /// `targetWorldMatrix[i] * targetOffset[i]` (glam column-vector product).
     pub world: DMat4,
@@ -73,9 +73,11 @@ impl Targets {
 
     /// The usable targets: every existing `targetWorldMatrix[i]` whose weight
     /// is positive and whose effective matrix is finite.
-    pub fn read(&self, ctx: &ComputeContext<'_>) -> Vec<Target> {
+    ///
+    /// An identity `targetOffset[i]` (the default) is not multiplied in.
+    pub fn read(&self, ctx: &ComputeContext<'_>) -> SmallList<Target, 4> {
         let n = ctx.multi_len(self.world);
-        let mut out = Vec::with_capacity(n);
+        let mut out = SmallList::new();
         for k in 0..n {
             let Some((i, m)) = ctx.multi_at(self.world, k) else {
                 break;
@@ -84,8 +86,10 @@ impl Targets {
             if !(w.is_finite() && w > 0.0) {
                 continue;
             }
-            let o = ctx.get_at(self.offset, i).unwrap_or(DMat4::IDENTITY);
-            let world = m * o;
+            let world = match ctx.get_at(self.offset, i) {
+                Some(o) if o != DMat4::IDENTITY => m * o,
+                _ => m,
+            };
             if world.is_finite() {
                 out.push(Target { world, weight: w });
             }
@@ -145,10 +149,10 @@ pub(crate) fn slerp_longest(a: DQuat, b: DQuat, t: f64) -> DQuat {
 /// along the shorter / longer arc. `None` without weight.
 pub(crate) fn blend_rotation(ts: &[Target], interp: i64) -> Option<DQuat> {
     total_weight(ts)?;
-    let items: Vec<(DQuat, f64)> = ts
-        .iter()
-        .map(|t| (to_translate_rotate_scale(t.world).1, t.weight))
-        .collect();
+    let mut items = SmallList::<(DQuat, f64), 4>::new();
+    for t in ts {
+        items.push((to_translate_rotate_scale(t.world).1, t.weight));
+    }
     let (first, rest) = items.split_first()?;
     let q = match interp {
         2 | 3 => {
@@ -357,4 +361,49 @@ pub(crate) fn declare_parent_inverse(b: &mut SpecBuilder) -> Input<DMat4> {
         "inverse of the constrained node's parent world matrix (connect from its parentInverseMatrix)",
     );
     h
+}
+
+/// A list that keeps its first `N` items inline (no heap allocation for the usual handful of
+/// constraint targets) and moves to a `Vec` beyond that.
+#[derive(Clone, Debug)]
+pub(crate) enum SmallList<T, const N: usize> {
+    /// Up to `N` items, the first `len` of the array.
+    Inline([T; N], usize),
+    /// More than `N` items.
+    Heap(Vec<T>),
+}
+
+impl<T: Copy + Default, const N: usize> SmallList<T, N> {
+    /// An empty list.
+    pub fn new() -> Self {
+        SmallList::Inline([T::default(); N], 0)
+    }
+
+    /// Appends `item`.
+    pub fn push(&mut self, item: T) {
+        match self {
+            SmallList::Inline(items, len) if *len < N => {
+                items[*len] = item;
+                *len += 1;
+            }
+            SmallList::Inline(items, len) => {
+                let mut v = Vec::with_capacity(2 * N);
+                v.extend_from_slice(&items[..*len]);
+                v.push(item);
+                *self = SmallList::Heap(v);
+            }
+            SmallList::Heap(v) => v.push(item),
+        }
+    }
+}
+
+impl<T, const N: usize> std::ops::Deref for SmallList<T, N> {
+    type Target = [T];
+
+    fn deref(&self) -> &[T] {
+        match self {
+            SmallList::Inline(items, len) => items.get(..*len).unwrap_or(&[]),
+            SmallList::Heap(v) => v,
+        }
+    }
 }

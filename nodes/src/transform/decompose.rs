@@ -171,6 +171,16 @@ pub fn decompose(m: DMat4, order: RotateOrder) -> Option<Decomposed> {
     })
 }
 
+/// [`decompose`] without the Euler angles: `(translate, quat, scale, shear)`, the same bits
+/// as the matching fields of [`decompose`]; `None` for a non-finite matrix.
+pub fn decompose_quat(m: DMat4) -> Option<(DVec3, DQuat, DVec3, DVec3)> {
+    if !m.is_finite() {
+        return None;
+    }
+    let (rot, scale, shear) = split_rotation_scale_shear(DMat3::from_mat4(m));
+    Some((m.w_axis.truncate(), sanitize_quat(DQuat::from_mat3(&rot)), scale, shear))
+}
+
 /// The `composeMatrix` node: glam `T * R * SH * S` (Maya `S·SH·R·T`), no
 /// pivots. `rotate` in radians in `order`. Non-finite components are replaced
 /// by identity values.

@@ -267,6 +267,12 @@ fn alternate(e: DVec3, order: RotateOrder) -> DVec3 {
 
 /// `a` shifted by a multiple of 2π to be as close as possible to `target`.
 fn wrap_near(a: f64, target: f64) -> f64 {
+    let d = target - a;
+    if d.abs() < PI {
+        // `d / TAU` is in (-½, ½), so it rounds to ±0 (the sign of `d`): the general
+        // formula below adds that signed zero, and so does this (same bits, no `round`).
+        return a + 0.0f64.copysign(d);
+    }
     let shifted = a + TAU * ((target - a) / TAU).round();
     if shifted.is_finite() {
         shifted
@@ -518,7 +524,49 @@ mod tests {
         (0i64..6).prop_map(|i| RotateOrder::from_index(i).unwrap_or_default())
     }
 
+    /// `wrap_near`'s shortcut for `|target − a| < π` gives the general formula's bits.
+    fn wrap_general(a: f64, target: f64) -> f64 {
+        let shifted = a + TAU * ((target - a) / TAU).round();
+        if shifted.is_finite() {
+            shifted
+        } else {
+            a
+        }
+    }
+
+    #[test]
+    fn wrap_near_shortcut_matches_general_formula_at_edges() {
+        let below_pi = f64::from_bits(PI.to_bits() - 1);
+        for (a, t) in [
+            (0.0, 0.0),
+            (-0.0, 0.0),
+            (-0.0, -0.0),
+            (0.0, -0.0),
+            (-0.0, 0.5),
+            (-0.0, -0.5),
+            (0.0, below_pi),
+            (0.0, -below_pi),
+            (1.0, 1.0 + below_pi),
+            (-3.0, -3.0 - below_pi),
+            (0.0, PI),
+            (0.0, -PI),
+            (5.0, f64::NAN),
+        ] {
+            assert_eq!(
+                wrap_near(a, t).to_bits(),
+                wrap_general(a, t).to_bits(),
+                "a {a}, target {t}"
+            );
+        }
+    }
+
     proptest! {
+        #[test]
+        fn wrap_near_shortcut_matches_general_formula(a in -20.0f64..20.0, d in -3.5f64..3.5) {
+            let t = a + d;
+            prop_assert_eq!(wrap_near(a, t).to_bits(), wrap_general(a, t).to_bits());
+        }
+
         #[test]
         fn euler_quat_round_trip(
             order in order_strategy(),

@@ -9,7 +9,7 @@ use glam::{DMat4, DQuat, DVec3};
 use sinew_core::{ComputeContext, ComputeError, Input, MultiInput, NodeSpec, NodeType, Output, SpecError, Unit};
 
 use super::dag_nodes::{deg_to_rad, rad_to_deg, rotate_order, ROTATE_ORDERS};
-use super::math::{compose, compose_quat, decompose, euler_to_quat, quat_to_euler, Decomposed};
+use super::math::{compose, compose_quat, decompose, decompose_quat, euler_to_quat, quat_to_euler, Decomposed};
 
 /// The inverse of `m`, or the identity when `m` is singular (determinant 0),
 /// not finite, or its inverse overflows. Never NaN.
@@ -294,12 +294,18 @@ impl NodeType for PickMatrix {
         let out = if flags.iter().all(|&f| f) && m.is_finite() {
             m
         } else {
-            let d = decompose(m, super::math::RotateOrder::Xyz).unwrap_or(Decomposed::IDENTITY);
+            let d = Decomposed::IDENTITY;
+            let (t, q, s, sh) = match (m.is_finite(), flags[1] || flags[2] || flags[3]) {
+                (false, _) => (d.translate, d.quat, d.scale, d.shear),
+                (true, true) => decompose_quat(m).unwrap_or((d.translate, d.quat, d.scale, d.shear)),
+                // Translation only: nothing to decompose.
+                (true, false) => (m.w_axis.truncate(), d.quat, d.scale, d.shear),
+            };
             compose_quat(
-                if flags[0] { d.translate } else { DVec3::ZERO },
-                if flags[1] { d.quat } else { DQuat::IDENTITY },
-                if flags[2] { d.scale } else { DVec3::ONE },
-                if flags[3] { d.shear } else { DVec3::ZERO },
+                if flags[0] { t } else { DVec3::ZERO },
+                if flags[1] { q } else { DQuat::IDENTITY },
+                if flags[2] { s } else { DVec3::ONE },
+                if flags[3] { sh } else { DVec3::ZERO },
             )
         };
         ctx.set(self.out, out);

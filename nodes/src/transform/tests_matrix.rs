@@ -209,6 +209,16 @@ fn pick_matrix_components() {
     assert_eq!(o.w_axis.truncate(), DVec3::ZERO);
     assert!(DMat3::from_mat4(o).abs_diff_eq(DMat3::from_mat4(trs_by_hand()), 1e-15));
     assert_lazy_compiled_same(&mut g, &["pm.outputMatrix"]);
+    // Translation only (no decomposition needed): exactly the translation matrix.
+    for flag in ["pm.useRotate", "pm.useScale", "pm.useShear"] {
+        set(&mut g, flag, Value::Bool(false));
+    }
+    set(&mut g, "pm.useTranslate", Value::Bool(true));
+    assert_eq!(
+        mat(&mut g, "pm.outputMatrix"),
+        DMat4::from_translation(DVec3::new(1.0, 2.0, 3.0))
+    );
+    assert_lazy_compiled_same(&mut g, &["pm.outputMatrix"]);
 }
 
 /// eulerToQuat (0,0,90) = (0,0,sin 45°,cos 45°); quatToEuler returns the
