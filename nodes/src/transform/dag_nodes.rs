@@ -177,12 +177,13 @@ impl Common {
         }
     }
 
-    /// `parentMatrix * offsetParentMatrix`, skipping the product when the offset is the
-    /// identity (its default).
+    /// `parentMatrix * offsetParentMatrix`, skipping the product when the offset is exactly
+    /// the identity (its default; compared bit for bit, which is a few vector compares
+    /// instead of sixteen float comparisons).
     fn parent_world(&self, ctx: &ComputeContext<'_>) -> DMat4 {
         let parent = ctx.get(self.parent_matrix);
         let offset = ctx.get(self.offset_parent_matrix);
-        if offset == DMat4::IDENTITY {
+        if is_identity_bits(&offset) {
             parent
         } else {
             mul_affine(&parent, &offset)
@@ -214,6 +215,34 @@ impl Common {
             ctx.set(self.world_inverse_matrix, inverse_or_identity(w));
         }
     }
+}
+
+/// Whether `m` is bit for bit [`DMat4::IDENTITY`] (so `-0.0` entries count as different).
+#[inline]
+fn is_identity_bits(m: &DMat4) -> bool {
+    const ID: [u64; 16] = [
+        0x3ff0_0000_0000_0000,
+        0,
+        0,
+        0,
+        0,
+        0x3ff0_0000_0000_0000,
+        0,
+        0,
+        0,
+        0,
+        0x3ff0_0000_0000_0000,
+        0,
+        0,
+        0,
+        0,
+        0x3ff0_0000_0000_0000,
+    ];
+    m.to_cols_array()
+        .iter()
+        .zip(ID)
+        .fold(0u64, |acc, (x, id)| acc | (x.to_bits() ^ id))
+        == 0
 }
 
 /// Maya's `transform` node: `matrix` is
@@ -394,5 +423,26 @@ impl NodeType for Joint {
     fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
         self.common.compute(ctx, |ctx| self.params(ctx).local_matrix());
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn identity_bits_only_for_the_exact_identity() {
+        assert!(is_identity_bits(&DMat4::IDENTITY));
+        let mut a = DMat4::IDENTITY.to_cols_array();
+        a[1] = -0.0;
+        assert!(
+            !is_identity_bits(&DMat4::from_cols_array(&a)),
+            "-0.0 is not +0.0 bit for bit"
+        );
+        let mut b = DMat4::IDENTITY.to_cols_array();
+        b[15] = 1.0 + f64::EPSILON;
+        assert!(!is_identity_bits(&DMat4::from_cols_array(&b)));
+        assert!(!is_identity_bits(&DMat4::from_cols_array(&[f64::NAN; 16])));
+        assert!(!is_identity_bits(&DMat4::from_translation(glam::DVec3::X)));
     }
 }
