@@ -150,6 +150,17 @@ impl IkSolution {
         }
     }
 
+    /// An empty solution (no joints, status reached) whose buffers a solver refills.
+    pub(super) fn empty() -> Self {
+        IkSolution {
+            rotations: Vec::new(),
+            bone_scale: Vec::new(),
+            iterations: 0,
+            error: 0.0,
+            status: IkStatus::Reached,
+        }
+    }
+
     /// True when the input was invalid and the rotations are the rest pose.
     pub fn is_invalid(&self) -> bool {
         matches!(self.status, IkStatus::Invalid(_))
@@ -237,7 +248,7 @@ pub(super) fn unit_quat(q: DQuat) -> Option<DQuat> {
 }
 
 /// A validated chain expressed in chain space (the start joint's parent space).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub(super) struct Prepared {
     /// Normalized joints (quaternions unit length).
     pub joints: Vec<ChainJoint>,
@@ -252,6 +263,16 @@ pub(super) struct Prepared {
 impl Prepared {
     /// Checks the chain (finite, unit-able quaternions, invertible parent) and prepares it.
     pub fn new(chain: &Chain) -> Result<Self, IkError> {
+        let mut prep = Prepared::default();
+        prep.refill(chain)?;
+        Ok(prep)
+    }
+
+    /// [`Self::new`] into this value's buffers (no allocation once they are large enough).
+    /// On error the contents are unspecified.
+    pub fn refill(&mut self, chain: &Chain) -> Result<(), IkError> {
+        self.joints.clear();
+        self.rest_rot.clear();
         if !chain.parent_world.is_finite() {
             return Err(IkError::NonFinite("parent_world"));
         }
@@ -260,26 +281,49 @@ impl Prepared {
         if !det.is_finite() || det.abs() < 1e-12 || !to_chain.is_finite() {
             return Err(IkError::SingularParent);
         }
-        let mut joints = Vec::with_capacity(chain.joints.len());
         for (i, j) in chain.joints.iter().enumerate() {
             if !j.translate.is_finite() {
                 return Err(IkError::NonFinite("joint translate"));
             }
             let q = |q: DQuat| unit_quat(q).ok_or(IkError::ZeroQuaternion { joint: i });
-            joints.push(ChainJoint {
+            self.joints.push(ChainJoint {
                 translate: j.translate,
                 joint_orient: q(j.joint_orient)?,
                 rotate_axis: q(j.rotate_axis)?,
                 preferred: q(j.preferred)?,
             });
         }
-        let rest_rot = joints.iter().map(|j| j.preferred).collect();
-        Ok(Prepared {
-            joints,
-            rest_rot,
-            to_world: chain.parent_world,
-            to_chain,
-        })
+        self.rest_rot.extend(self.joints.iter().map(|j| j.preferred));
+        self.to_world = chain.parent_world;
+        self.to_chain = to_chain;
+        Ok(())
+    }
+
+    /// [`Self::bone_lengths`] into `out` (cleared first).
+    pub fn bone_lengths_into(&self, out: &mut Vec<f64>) {
+        out.clear();
+        out.extend(self.joints.iter().skip(1).map(|j| j.translate.length()));
+    }
+
+    /// Scales every bone by `s` in place (what [`Self::scaled`] returns).
+    pub fn scale_bones(&mut self, s: f64) {
+        for j in self.joints.iter_mut().skip(1) {
+            j.translate *= s;
+        }
+    }
+
+    /// The positions of [`Self::fk`] into `out` (cleared first), without the world rotations.
+    pub fn fk_positions_into(&self, rot: &[DQuat], out: &mut Vec<DVec3>) {
+        out.clear();
+        let (mut p, mut q) = (DVec3::ZERO, DQuat::IDENTITY);
+        let n = self.joints.len();
+        for (i, j) in self.joints.iter().enumerate() {
+            p += q * j.translate;
+            out.push(p);
+            if i + 1 < n {
+                q = (q * j.joint_orient * rot[i] * j.rotate_axis).normalize();
+            }
+        }
     }
 
     /// Rest bone lengths: entry `i` is the length of the bone from joint `i` to `i + 1`.
@@ -312,8 +356,15 @@ impl Prepared {
 
     /// World-space distance from the end effector (FK of `rot`) to the world `goal`.
     pub fn world_error(&self, rot: &[DQuat], goal: DVec3) -> f64 {
-        let (pos, _) = self.fk(rot);
-        let end = pos.last().copied().unwrap_or(DVec3::ZERO);
+        // The end position of `fk(rot)`: the last joint's rotation never moves it.
+        let (mut end, mut q) = (DVec3::ZERO, DQuat::IDENTITY);
+        let n = self.joints.len();
+        for (i, j) in self.joints.iter().enumerate() {
+            end += q * j.translate;
+            if i + 1 < n {
+                q = (q * j.joint_orient * rot[i] * j.rotate_axis).normalize();
+            }
+        }
         let e = self.to_world.transform_point3(end).distance(goal);
         if e.is_finite() {
             e
@@ -335,20 +386,40 @@ impl Prepared {
         fallback_axis: DVec3,
         twist: Option<&[f64]>,
     ) -> Vec<DQuat> {
-        let mut out = self.rest_rot.clone();
+        let mut out = Vec::with_capacity(self.joints.len());
+        self.rotations_from_positions_into(targets, root_pre, fallback_axis, twist, &mut out);
+        out
+    }
+
+    /// [`Self::rotations_from_positions`] into `out` (cleared first).
+    pub fn rotations_from_positions_into(
+        &self,
+        targets: &[DVec3],
+        root_pre: DQuat,
+        fallback_axis: DVec3,
+        twist: Option<&[f64]>,
+        out: &mut Vec<DQuat>,
+    ) {
+        out.clear();
+        out.extend_from_slice(&self.rest_rot);
         let (mut p, mut qp) = (DVec3::ZERO, DQuat::IDENTITY);
         let mut axis = DVec3::ZERO;
+        let n = self.joints.len();
+        // Work whose result cannot be used is skipped (same bits): the position and carried
+        // frame past the last aimed joint, and the bone axis when there is no twist.
         for (i, j) in self.joints.iter().enumerate() {
-            p += qp * j.translate;
             let frame = (qp * j.joint_orient).normalize();
-            let q = frame * out[i] * j.rotate_axis;
             let mut delta = if i == 0 { root_pre } else { DQuat::IDENTITY };
             if let (Some(child), Some(&target)) = (self.joints.get(i + 1), targets.get(i + 1)) {
+                p += qp * j.translate;
+                let q = frame * out[i] * j.rotate_axis;
                 let v = delta * q * child.translate;
                 let w = target - p;
                 delta = aim(v, w, fallback_axis) * delta;
-                if let Some(a) = (delta * q * child.translate).try_normalize() {
-                    axis = a;
+                if twist.is_some() {
+                    if let Some(a) = (delta * q * child.translate).try_normalize() {
+                        axis = a;
+                    }
                 }
             }
             if let Some(&angle) = twist.and_then(|t| t.get(i)) {
@@ -357,9 +428,10 @@ impl Prepared {
                 }
             }
             out[i] = (frame.inverse() * delta * frame * out[i]).normalize();
-            qp = (frame * out[i] * j.rotate_axis).normalize();
+            if i + 1 < n {
+                qp = (frame * out[i] * j.rotate_axis).normalize();
+            }
         }
-        out
     }
 }
 
@@ -399,11 +471,17 @@ pub(super) fn frame_to_frame(u0: DVec3, w0: DVec3, u1: DVec3, w1: DVec3) -> DQua
 /// Positions evenly along a straight line from `start` in direction `dir`, at cumulative bone lengths.
 pub(super) fn straight_positions(start: DVec3, dir: DVec3, lengths: &[f64]) -> Vec<DVec3> {
     let mut out = Vec::with_capacity(lengths.len() + 1);
+    straight_positions_into(start, dir, lengths, &mut out);
+    out
+}
+
+/// [`straight_positions`] into `out` (cleared first).
+pub(super) fn straight_positions_into(start: DVec3, dir: DVec3, lengths: &[f64], out: &mut Vec<DVec3>) {
+    out.clear();
     let mut acc = 0.0;
     out.push(start);
     for l in lengths {
         acc += l;
         out.push(start + dir * acc);
     }
-    out
 }

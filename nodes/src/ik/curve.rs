@@ -13,6 +13,8 @@
 // The one line to change when moving into sinew-nodes: `pub use sinew_core::data::{Curve, CurveForm};`
 pub use sinew_core::data::{Curve, CurveForm};
 
+use std::sync::OnceLock;
+
 use glam::DVec3;
 
 /// Largest degree evaluated without allocating (higher degrees fall back to a `Vec`).
@@ -35,11 +37,36 @@ pub struct BSpline {
 impl BSpline {
     /// Validates `curve` and builds the evaluator; the error says what is wrong and how to fix it.
     pub fn new(curve: &Curve) -> Result<Self, String> {
+        let mut s = BSpline::empty();
+        s.rebuild(curve, |q| q)?;
+        Ok(s)
+    }
+
+    /// An unusable placeholder whose buffers [`Self::rebuild`] fills (never evaluated before that succeeds).
+    pub(super) fn empty() -> Self {
+        BSpline {
+            degree: 0,
+            points: Vec::new(),
+            knots: Vec::new(),
+            dpoints: Vec::new(),
+            periodic: false,
+        }
+    }
+
+    /// [`Self::new`] of `curve` with every control point mapped by `map`, reusing this
+    /// spline's buffers (no allocation once they are large enough). On error the spline is
+    /// left unusable.
+    pub(super) fn rebuild(&mut self, curve: &Curve, map: impl Fn(DVec3) -> DVec3) -> Result<(), String> {
         let p = curve.degree as usize;
+        self.degree = p;
+        self.points.clear();
+        self.knots.clear();
+        self.dpoints.clear();
         if p == 0 {
             return Err("degree must be at least 1".into());
         }
-        let mut points = curve.points.clone();
+        let points = &mut self.points;
+        points.extend(curve.points.iter().map(|&q| map(q)));
         if points.iter().any(|q| !q.is_finite()) {
             return Err("a control point is NaN or infinite".into());
         }
@@ -51,24 +78,27 @@ impl BSpline {
             ));
         }
         let periodic = curve.form == CurveForm::Periodic;
-        let knots = if curve.knots.is_empty() {
+        self.periodic = periodic;
+        let knots = &mut self.knots;
+        if curve.knots.is_empty() {
             if periodic {
                 points.extend_from_within(0..p);
-                (0..points.len() + p + 1).map(|j| j as f64 - p as f64).collect()
+                knots.extend((0..points.len() + p + 1).map(|j| j as f64 - p as f64));
             } else {
                 let n = points.len();
-                (0..n + p + 1)
-                    .map(|j| (j.saturating_sub(p)).min(n - p) as f64)
-                    .collect()
+                knots.extend((0..n + p + 1).map(|j| (j.saturating_sub(p)).min(n - p) as f64));
             }
         } else {
             let n = points.len();
-            let mut k = curve.knots.clone();
-            if k.len() + 2 == n + p + 1 {
-                k.insert(0, k[0]);
-                k.push(k[k.len() - 1]);
+            let padded = curve.knots.len() + 2 == n + p + 1;
+            if padded {
+                knots.push(curve.knots[0]);
             }
-            if k.len() != n + p + 1 {
+            knots.extend_from_slice(&curve.knots);
+            if padded {
+                knots.push(curve.knots[curve.knots.len() - 1]);
+            }
+            if knots.len() != n + p + 1 {
                 return Err(format!(
                     "{n} points of degree {p} need {} knots (or Maya's {}), got {}",
                     n + p + 1,
@@ -76,32 +106,23 @@ impl BSpline {
                     curve.knots.len()
                 ));
             }
-            if k.iter().any(|x| !x.is_finite()) || k.windows(2).any(|w| w[0] > w[1]) {
+            if knots.iter().any(|x| !x.is_finite()) || knots.windows(2).any(|w| w[0] > w[1]) {
                 return Err("knots must be finite and non-decreasing".into());
             }
-            k
-        };
+        }
         let n = points.len();
         if knots[p] >= knots[n] {
             return Err("the curve's parameter domain is empty (repeated knots)".into());
         }
-        let dpoints = (0..n - 1)
-            .map(|i| {
-                let den = knots[i + p + 1] - knots[i + 1];
-                if den > 0.0 {
-                    (points[i + 1] - points[i]) * (p as f64 / den)
-                } else {
-                    DVec3::ZERO
-                }
-            })
-            .collect();
-        Ok(BSpline {
-            degree: p,
-            points,
-            knots,
-            dpoints,
-            periodic,
-        })
+        self.dpoints.extend((0..n - 1).map(|i| {
+            let den = knots[i + p + 1] - knots[i + 1];
+            if den > 0.0 {
+                (points[i + 1] - points[i]) * (p as f64 / den)
+            } else {
+                DVec3::ZERO
+            }
+        }));
+        Ok(())
     }
 
     /// The parameter domain `(start, end)`.
@@ -225,13 +246,39 @@ fn de_boor(p: usize, knots: &[f64], pts: &[DVec3], k: usize, t: f64) -> DVec3 {
     let Some(src) = k.checked_sub(p).and_then(|first| pts.get(first..first + p + 1)) else {
         return DVec3::ZERO;
     };
-    if p <= STACK_DEGREE {
-        let mut d = [DVec3::ZERO; STACK_DEGREE + 1];
-        d[..=p].copy_from_slice(src);
-        de_boor_in_place(p, knots, k, t, &mut d[..=p])
-    } else {
-        de_boor_in_place(p, knots, k, t, &mut src.to_vec())
+    match p {
+        0 => src[0],
+        1 => de_boor_fixed::<1>(knots, src, k, t),
+        2 => de_boor_fixed::<2>(knots, src, k, t),
+        3 => de_boor_fixed::<3>(knots, src, k, t),
+        4 => de_boor_fixed::<4>(knots, src, k, t),
+        5 => de_boor_fixed::<5>(knots, src, k, t),
+        6 => de_boor_fixed::<6>(knots, src, k, t),
+        7 => de_boor_fixed::<7>(knots, src, k, t),
+        _ => de_boor_in_place(p, knots, k, t, &mut src.to_vec()),
     }
+}
+
+/// [`de_boor_in_place`] for a degree `P <= STACK_DEGREE` known at compile time (the same
+/// operations in the same order, unrolled): `src` holds the `P + 1` control points.
+#[inline(always)]
+fn de_boor_fixed<const P: usize>(knots: &[f64], src: &[DVec3], k: usize, t: f64) -> DVec3 {
+    // The knots the triangle reads: `knots[k + 1 - P ..= k + P]`, so `kn[m] = knots[m + k + 1 - P]`.
+    let Some(kn) = (k + 1).checked_sub(P).and_then(|lo| knots.get(lo..=k + P)) else {
+        return DVec3::ZERO;
+    };
+    let mut d = [DVec3::ZERO; STACK_DEGREE + 1];
+    d[..=P].copy_from_slice(&src[..=P]);
+    for r in 1..=P {
+        for j in (r..=P).rev() {
+            // `i = j + k - P`: `knots[i]` is `kn[j - 1]`, `knots[i + P + 1 - r]` is `kn[j + P - r]`.
+            let (ki, kr) = (kn[j - 1], kn[j + P - r]);
+            let den = kr - ki;
+            let alpha = if den > 0.0 { (t - ki) / den } else { 0.0 };
+            d[j] = d[j - 1] * (1.0 - alpha) + d[j] * alpha;
+        }
+    }
+    d[P]
 }
 
 /// The de Boor triangle on `d` (the `p + 1` control points of span `k`), in place.
@@ -257,33 +304,134 @@ pub struct ArcLengthTable {
     lengths: Vec<f64>,
 }
 
-impl ArcLengthTable {
-    /// Samples `spline` with `SAMPLES_PER_SPAN` (64) chords per non-empty knot span.
-    pub fn new(spline: &BSpline) -> Self {
-        let (a, b) = spline.domain();
-        let mut params = vec![a];
-        for w in spline.knots.windows(2) {
-            let (k0, k1) = (w[0].max(a), w[1].min(b));
-            if k1 > k0 {
-                for s in 1..=SAMPLES_PER_SPAN {
-                    params.push(k0 + (k1 - k0) * s as f64 / SAMPLES_PER_SPAN as f64);
+/// Lagrange weights of one degree `p`: `[s][j]` is the weight of the node at local
+/// parameter `j / p` for the sample at `s / SAMPLES_PER_SPAN`.
+type LagrangeWeights = [[f64; STACK_DEGREE + 1]; SAMPLES_PER_SPAN + 1];
+
+/// The [`LagrangeWeights`] of degree `p` (1..=`STACK_DEGREE`), computed once per process.
+///
+/// With `x = s * p / SAMPLES_PER_SPAN` (exact: a small integer over a power of two) the
+/// weight of node `j` is `prod_{m != j} (x - m) / (j - m)`. At `s = 0` and
+/// `s = SAMPLES_PER_SPAN` one factor of every other weight is exactly 0 and the own weight
+/// exactly 1, so the span's ends reproduce the de Boor values.
+fn lagrange_weights(p: usize) -> &'static LagrangeWeights {
+    static TABLES: [OnceLock<LagrangeWeights>; STACK_DEGREE + 1] = [const { OnceLock::new() }; STACK_DEGREE + 1];
+    TABLES[p.min(STACK_DEGREE)].get_or_init(|| {
+        let mut w = [[0.0; STACK_DEGREE + 1]; SAMPLES_PER_SPAN + 1];
+        for (s, row) in w.iter_mut().enumerate() {
+            let x = (s * p) as f64 / SAMPLES_PER_SPAN as f64;
+            for (j, wj) in row.iter_mut().enumerate().take(p + 1) {
+                let (mut num, mut den) = (1.0, 1.0);
+                for m in (0..=p).filter(|&m| m != j) {
+                    num *= x - m as f64;
+                    den *= j as f64 - m as f64;
                 }
+                *wj = num / den;
             }
         }
-        let points = spline.sample(&params);
-        let mut lengths = Vec::with_capacity(params.len());
+        w
+    })
+}
+
+/// Appends a span's samples `1..=SAMPLES_PER_SPAN` for degree `P`: the Lagrange
+/// interpolation of the span's `P + 1` `nodes`, and the last node itself.
+fn interpolate<const P: usize>(nodes: &[DVec3; STACK_DEGREE + 1], weights: &LagrangeWeights, out: &mut Vec<DVec3>) {
+    out.extend(weights[1..SAMPLES_PER_SPAN].iter().map(|row| {
+        let mut q = nodes[0] * row[0];
+        for j in 1..=P {
+            q += nodes[j] * row[j];
+        }
+        q
+    }));
+    out.push(nodes[P]);
+}
+
+impl ArcLengthTable {
+    /// Samples `spline` with `SAMPLES_PER_SPAN` (64) chords per non-empty knot span.
+    ///
+    /// On each span the curve is a polynomial of degree `p` in the local parameter
+    /// `u ∈ [0, 1]`, so for `p <= 7` only `p + 1` points per span are evaluated with de
+    /// Boor's algorithm (at `u = j / p`) and the 64 samples are their Lagrange
+    /// interpolation with fixed weights (exact in exact arithmetic). Span ends are the de
+    /// Boor values themselves; interior samples differ from direct evaluation only by
+    /// rounding: at most about `(2p + 2) · ε · Λ_p · max_j |P_j|` per coordinate, where
+    /// `P_j` are the span's evaluated points and `Λ_p` the Lebesgue constant of `p + 1`
+    /// equispaced nodes (1.25 for quadratics, 1.63 for cubics, under 7 for `p = 7`): a few
+    /// 1e-15 relative to the curve's coordinates. Higher degrees are evaluated directly.
+    pub fn new(spline: &BSpline) -> Self {
+        let mut table = ArcLengthTable::empty();
+        table.rebuild(spline);
+        table
+    }
+
+    /// A table with no samples (a buffer [`Self::rebuild`] fills; `param_at` needs a rebuild first).
+    pub(super) fn empty() -> Self {
+        ArcLengthTable {
+            params: Vec::new(),
+            points: Vec::new(),
+            lengths: Vec::new(),
+        }
+    }
+
+    /// [`Self::new`] into this table's buffers (no allocation once they are large enough).
+    pub(super) fn rebuild(&mut self, spline: &BSpline) {
+        self.params.clear();
+        self.points.clear();
+        self.lengths.clear();
+        let (a, b) = spline.domain();
+        let p = spline.degree;
+        self.params.push(a);
+        let n_inv = 1.0 / SAMPLES_PER_SPAN as f64;
+        if (1..=STACK_DEGREE).contains(&p) {
+            let weights = lagrange_weights(p);
+            for (k, w) in spline.knots.windows(2).enumerate() {
+                let (k0, k1) = (w[0].max(a), w[1].min(b));
+                if k1 <= k0 {
+                    continue;
+                }
+                let local = SpanLocal::new(p, &spline.knots, &spline.points, k);
+                let mut nodes = [DVec3::ZERO; STACK_DEGREE + 1];
+                for (j, node) in nodes.iter_mut().enumerate().take(p + 1) {
+                    let t = if j == p {
+                        k0 + (k1 - k0) * SAMPLES_PER_SPAN as f64 / SAMPLES_PER_SPAN as f64
+                    } else {
+                        k0 + (k1 - k0) * j as f64 / p as f64
+                    };
+                    *node = local.eval(p, t);
+                }
+                if self.points.is_empty() {
+                    self.points.push(nodes[0]);
+                }
+                self.params
+                    .extend((1..=SAMPLES_PER_SPAN).map(|s| k0 + (k1 - k0) * s as f64 * n_inv));
+                match p {
+                    1 => interpolate::<1>(&nodes, weights, &mut self.points),
+                    2 => interpolate::<2>(&nodes, weights, &mut self.points),
+                    3 => interpolate::<3>(&nodes, weights, &mut self.points),
+                    4 => interpolate::<4>(&nodes, weights, &mut self.points),
+                    5 => interpolate::<5>(&nodes, weights, &mut self.points),
+                    6 => interpolate::<6>(&nodes, weights, &mut self.points),
+                    _ => interpolate::<STACK_DEGREE>(&nodes, weights, &mut self.points),
+                }
+            }
+        } else {
+            for w in spline.knots.windows(2) {
+                let (k0, k1) = (w[0].max(a), w[1].min(b));
+                if k1 > k0 {
+                    for s in 1..=SAMPLES_PER_SPAN {
+                        self.params.push(k0 + (k1 - k0) * s as f64 / SAMPLES_PER_SPAN as f64);
+                    }
+                }
+            }
+            self.points = spline.sample(&self.params);
+        }
         let mut acc = 0.0;
-        let mut prev = points.first().copied().unwrap_or(DVec3::ZERO);
-        for &q in &points {
+        let mut prev = self.points.first().copied().unwrap_or(DVec3::ZERO);
+        self.lengths.extend(self.points.iter().map(|&q| {
             acc += q.distance(prev);
             prev = q;
-            lengths.push(acc);
-        }
-        ArcLengthTable {
-            params,
-            points,
-            lengths,
-        }
+            acc
+        }));
     }
 
     /// Total arc length of the curve.

@@ -102,14 +102,17 @@
 //! and soft IK), [`two_bone`] (ikRP: analytic two-bone and longer rotate-plane
 //! chains), [`iterative`] (ikSC: FABRIK and CCD), [`curve`] (B-spline evaluation and arc
 //! length) and [`spline`] (ikSpline); node plugins in [`nodes_rp`], [`nodes_sc`],
-//! [`nodes_spline`] and [`curve_node`] (shared node plumbing in `node_chain`), and the
-//! FK/IK snapping API in [`snap`].
+//! [`nodes_spline`] and [`curve_node`] (shared node plumbing in `node_chain`, per-thread
+//! buffers reused across computes in `node_scratch`, so a frame allocates nothing), and
+//! the FK/IK snapping API in [`snap`].
 
 pub mod chain;
 pub mod curve;
 pub mod curve_node;
 pub mod iterative;
 mod node_chain;
+mod node_pose;
+mod node_scratch;
 pub mod nodes_rp;
 pub mod nodes_sc;
 pub mod nodes_spline;
@@ -125,6 +128,8 @@ pub use node_chain::{
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_fast;
 #[cfg(test)]
 mod tests_nodes;
 #[cfg(test)]

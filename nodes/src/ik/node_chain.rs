@@ -1,16 +1,18 @@
-//! Shared plumbing of the IK node plugins: the chain's rest-data inputs, the FK/IK blend and the per-joint outputs.
+//! Shared plumbing of the IK node plugins: the chain's rest-data inputs and the per-joint outputs.
 //!
 //! Every IK node (`ikRP`, `ikSC`, `ikSpline`) declares the same chain inputs
 //! ([`ChainInputs`]) and outputs ([`ChainOutputs`]); see the [module docs](super) for
-//! the attribute list and the wiring pattern.
+//! the attribute list and the wiring pattern. The FK/IK blend is in `node_pose`.
 
 use std::sync::Arc;
 
-use glam::{DMat4, DQuat, DVec3};
-use sinew_core::{ComputeContext, ComputeError, Input, MultiInput, MultiOutput, Output, SpecBuilder, Unit};
+use glam::{DMat4, DVec3};
+use sinew_core::{AttrValue, ComputeContext, ComputeError, Input, MultiInput, MultiOutput, Output, SpecBuilder, Unit};
 
-use super::chain::{chain_world_positions, Chain, ChainJoint, IkError, IkSolution, IkStatus};
-use crate::transform::math::{euler_to_quat, quat_to_euler_closest, RotateOrder};
+use super::chain::{Chain, ChainJoint, IkStatus};
+use super::node_pose::OutPose;
+use super::node_scratch::{EulerMemo, Needed};
+use crate::transform::math::RotateOrder;
 
 /// `status` output: the end effector reached the goal.
 pub const STATUS_REACHED: i64 = 0;
@@ -39,12 +41,12 @@ pub fn status_code(status: &IkStatus) -> i64 {
 }
 
 /// Degrees to radians for a vec3.
-fn rad(v: DVec3) -> DVec3 {
+pub(super) fn rad(v: DVec3) -> DVec3 {
     v * (std::f64::consts::PI / 180.0)
 }
 
 /// Radians to degrees for a vec3.
-fn deg(v: DVec3) -> DVec3 {
+pub(super) fn deg(v: DVec3) -> DVec3 {
     v * (180.0 / std::f64::consts::PI)
 }
 
@@ -73,7 +75,7 @@ pub(super) struct JointData {
 }
 
 /// The chain inputs of one compute, read and checked.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub(super) struct ChainRead {
     /// `startParentMatrix`.
     pub parent: DMat4,
@@ -107,25 +109,23 @@ impl ChainRead {
         None
     }
 
-    /// The solver's chain (angles converted to quaternions; non-finite values count as 0).
-    pub fn chain(&self) -> Chain {
-        Chain {
-            parent_world: if self.parent.is_finite() {
-                self.parent
-            } else {
-                DMat4::IDENTITY
-            },
-            joints: self
-                .joints
-                .iter()
-                .map(|j| ChainJoint {
-                    translate: finite_or_zero(j.translate),
-                    joint_orient: euler_to_quat(rad(j.orient), RotateOrder::Xyz),
-                    rotate_axis: euler_to_quat(rad(j.rotate_axis), RotateOrder::Xyz),
-                    preferred: euler_to_quat(rad(j.preferred), j.order),
-                })
-                .collect(),
-        }
+    /// The solver's chain into `out`, reusing its joint buffer (angles converted to
+    /// quaternions; non-finite values count as 0).
+    ///
+    /// The angle conversions go through `memo` (same bits as converting directly).
+    pub fn chain_into(&self, out: &mut Chain, memo: &mut EulerMemo) {
+        out.parent_world = if self.parent.is_finite() {
+            self.parent
+        } else {
+            DMat4::IDENTITY
+        };
+        out.joints.clear();
+        out.joints.extend(self.joints.iter().map(|j| ChainJoint {
+            translate: finite_or_zero(j.translate),
+            joint_orient: memo.quat(j.orient, RotateOrder::Xyz),
+            rotate_axis: memo.quat(j.rotate_axis, RotateOrder::Xyz),
+            preferred: memo.quat(j.preferred, j.order),
+        }));
     }
 
     /// The blend weight clamped to `[0, 1]` (non-finite counts as 1, but such input is
@@ -202,9 +202,16 @@ impl ChainInputs {
         }
     }
 
-    /// Reads the chain; fails when it has fewer than `min_joints` joints or a rotate order
-    /// is out of range (both are authoring mistakes the message explains).
-    pub fn read(&self, ctx: &ComputeContext<'_>, min_joints: usize, node: &str) -> Result<ChainRead, ComputeError> {
+    /// Reads the chain into `out` (reusing its joint buffer); fails when it has fewer than
+    /// `min_joints` joints or a rotate order is out of range (both are authoring mistakes the
+    /// message explains).
+    pub fn read_into(
+        &self,
+        ctx: &ComputeContext<'_>,
+        min_joints: usize,
+        node: &str,
+        out: &mut ChainRead,
+    ) -> Result<(), ComputeError> {
         let n = ctx.multi_len(self.joint_translate);
         if n < min_joints {
             return Err(ComputeError::new(format!(
@@ -212,142 +219,40 @@ impl ChainInputs {
                  set jointTranslate[0..{min_joints}] to the chain's rest local translations"
             )));
         }
-        let mut joints = Vec::with_capacity(n);
+        out.joints.clear();
         for k in 0..n {
             let Some((index, translate)) = ctx.multi_at(self.joint_translate, k) else {
                 break;
             };
-            let order_index = ctx.get_at(self.joint_rotate_order, index).unwrap_or(0);
+            let order_index = elem(ctx, self.joint_rotate_order, k, index).unwrap_or(0);
             let order = RotateOrder::from_index(order_index).ok_or_else(|| {
                 ComputeError::new(format!(
                     "jointRotateOrder[{index}] is {order_index}; use 0..5 (xyz, yzx, zxy, xzy, yxz, zyx)"
                 ))
             })?;
-            joints.push(JointData {
+            out.joints.push(JointData {
                 index,
                 translate,
-                orient: ctx.get_at(self.joint_orient, index).unwrap_or(DVec3::ZERO),
-                rotate_axis: ctx.get_at(self.joint_rotate_axis, index).unwrap_or(DVec3::ZERO),
+                orient: elem(ctx, self.joint_orient, k, index).unwrap_or(DVec3::ZERO),
+                rotate_axis: elem(ctx, self.joint_rotate_axis, k, index).unwrap_or(DVec3::ZERO),
                 order,
-                preferred: ctx.get_at(self.preferred_angle, index).unwrap_or(DVec3::ZERO),
-                fk: ctx.get_at(self.fk_rotate, index).unwrap_or(DVec3::ZERO),
+                preferred: elem(ctx, self.preferred_angle, k, index).unwrap_or(DVec3::ZERO),
+                fk: elem(ctx, self.fk_rotate, k, index).unwrap_or(DVec3::ZERO),
             });
         }
-        Ok(ChainRead {
-            parent: ctx.get(self.start_parent_matrix),
-            joints,
-            ik_blend: ctx.get(self.ik_blend),
-        })
+        out.parent = ctx.get(self.start_parent_matrix);
+        out.ik_blend = ctx.get(self.ik_blend);
+        Ok(())
     }
 }
 
-/// The pose the node writes, before it is written.
-#[derive(Clone, Debug)]
-pub(super) struct OutPose {
-    /// Per joint `rotate`, degrees in the joint's rotate order.
-    pub rotate: Vec<DVec3>,
-    /// Per joint `translate` (the rest translate scaled by the parent bone's stretch).
-    pub translate: Vec<DVec3>,
-    /// Per joint the stretch factor of the bone from it to the next joint.
-    pub stretch: Vec<f64>,
-    /// `status` code.
-    pub status: i64,
-    /// Human-readable status (static text for the common cases, so a frame
-    /// that reaches its goal formats nothing).
-    pub message: std::borrow::Cow<'static, str>,
-}
-
-impl OutPose {
-    /// The rest pose for invalid input: `preferredAngle` (non-finite components 0),
-    /// rest translations, no stretch.
-    pub fn rest(read: &ChainRead, err: &IkError) -> Self {
-        let rotate: Vec<DVec3> = read.joints.iter().map(|j| finite_or_zero(j.preferred)).collect();
-        let translate: Vec<DVec3> = read.joints.iter().map(|j| finite_or_zero(j.translate)).collect();
-        OutPose {
-            stretch: vec![1.0; rotate.len()],
-            rotate,
-            translate,
-            status: STATUS_INVALID,
-            message: format!("invalid: {err}; outputs are the rest pose (preferredAngle)").into(),
-        }
-    }
-
-    /// The blended pose from a solution: per joint slerp from FK to IK by `ikBlend`,
-    /// converted to Euler angles closest to `fkRotate + (preferredAngle - fkRotate) * ikBlend`
-    /// (so IK output is continuous around the preferred pose). `ikBlend` 0 copies
-    /// `fkRotate` exactly. `root_translate` replaces the start joint's translate (spline).
-    pub fn blended(read: &ChainRead, sol: &IkSolution, root_translate: Option<DVec3>) -> Self {
-        if let IkStatus::Invalid(e) = &sol.status {
-            return Self::rest(read, e);
-        }
-        let w = read.blend();
-        let n = read.joints.len();
-        let mut rotate = Vec::with_capacity(n);
-        let mut stretch = Vec::with_capacity(n);
-        for (i, j) in read.joints.iter().enumerate() {
-            let ik = sol.rotations.get(i).copied().unwrap_or(DQuat::IDENTITY);
-            let r = if w == 0.0 {
-                j.fk
-            } else {
-                let q = if w == 1.0 {
-                    ik
-                } else {
-                    let fk = euler_to_quat(rad(j.fk), j.order);
-                    super::chain::blend_fk_ik(&[fk], &[ik], w)[0]
-                };
-                let reference = j.fk + (j.preferred - j.fk) * w;
-                deg(quat_to_euler_closest(q, j.order, rad(reference)))
-            };
-            rotate.push(finite_or_zero(r));
-            let s = super::chain::blend_scale(sol.bone_scale.get(i).copied().unwrap_or(1.0), w);
-            stretch.push(if s.is_finite() { s } else { 1.0 });
-        }
-        let mut translate = Vec::with_capacity(n);
-        for (i, j) in read.joints.iter().enumerate() {
-            let t = if i == 0 {
-                match root_translate {
-                    Some(rt) if rt.is_finite() => j.translate + (rt - j.translate) * w,
-                    _ => j.translate,
-                }
-            } else {
-                j.translate * stretch[i - 1]
-            };
-            translate.push(finite_or_zero(t));
-        }
-        let status = status_code(&sol.status);
-        let message = match &sol.status {
-            IkStatus::Reached => "reached".into(),
-            IkStatus::Unreachable => "unreachable: the chain is held short of the goal".into(),
-            IkStatus::NotConverged => format!(
-                "not converged after {} iterations (raise maxIterations or tolerance)",
-                sol.iterations
-            )
-            .into(),
-            IkStatus::Invalid(e) => e.to_string().into(),
-        };
-        OutPose {
-            rotate,
-            translate,
-            stretch,
-            status,
-            message,
-        }
-    }
-
-    /// World position of the last joint when the joints take this pose (what connected
-    /// `joint` nodes will show, up to rounding).
-    pub fn fk_end(&self, read: &ChainRead) -> DVec3 {
-        let mut chain = read.chain();
-        let mut rotations = Vec::with_capacity(chain.joints.len());
-        for (i, j) in chain.joints.iter_mut().enumerate() {
-            j.translate = self.translate[i];
-            rotations.push(euler_to_quat(rad(self.rotate[i]), read.joints[i].order));
-        }
-        let end = chain_world_positions(&chain, &rotations)
-            .last()
-            .copied()
-            .unwrap_or(DVec3::ZERO);
-        finite_or_zero(end)
+/// The element with logical index `index` of multi input `h`, looked up at position `k`
+/// first (the multis of a chain are usually aligned) and by search otherwise. Same value
+/// as `ctx.get_at(h, index)`: the chain multis' defaults are the values callers fall back to.
+fn elem<T: AttrValue>(ctx: &ComputeContext<'_>, h: MultiInput<T>, k: usize, index: u32) -> Option<T> {
+    match ctx.multi_at(h, k) {
+        Some((i, v)) if i == index => Some(v),
+        _ => ctx.get_at(h, index),
     }
 }
 
@@ -449,6 +354,25 @@ impl ChainOutputs {
             error,
             error_kind,
         }
+    }
+
+    /// The joints whose `rotate` the group `ctx` computes needs: all for the end effector,
+    /// otherwise the joints some `outRotate` element names.
+    pub fn rotate_needed(&self, ctx: &ComputeContext<'_>, read: &ChainRead) -> Needed {
+        if ctx.wants(self.end_effector) {
+            return Needed::ALL;
+        }
+        let mut bits = 0u64;
+        for k in 0..ctx.multi_out_len(self.out_rotate) {
+            let slot = ctx
+                .multi_out_index(self.out_rotate, k)
+                .and_then(|index| read.joints.iter().position(|j| j.index == index));
+            match slot {
+                Some(i) if i < 64 => bits |= 1 << i,
+                _ => {}
+            }
+        }
+        Needed(bits)
     }
 
     /// Writes the outputs of the group `ctx` computes from `pose`. Output elements whose

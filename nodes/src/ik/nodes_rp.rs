@@ -5,9 +5,10 @@ use sinew_core::{ComputeContext, ComputeError, Input, NodeSpec, NodeType, SpecBu
 
 use super::chain::{Chain, IkError, IkSolution};
 use super::iterative::IterParams;
-use super::node_chain::{ChainInputs, ChainOutputs, ChainRead, ErrorKind, ErrorValue, OutPose};
+use super::node_chain::{ChainInputs, ChainOutputs, ErrorKind, ErrorValue};
+use super::node_scratch::{with_node_scratch, NodeScratch, Solvers};
 use super::soft::ReachParams;
-use super::two_bone::{solve_rotate_plane, solve_two_bone, RpParams};
+use super::two_bone::{solve_rotate_plane_into, RpParams};
 
 /// Largest accepted `maxIterations` (bigger values are clamped to it).
 pub const MAX_ITERATIONS_CAP: i64 = 100_000;
@@ -112,29 +113,40 @@ impl GoalInputs {
 /// Runs `solve` unless an input is non-finite, then writes the blended pose.
 ///
 /// Shared by `ikRP` and `ikSC`: NaN/inf (which can only arrive through connections)
-/// gives the rest pose with status 3 instead of reaching the solver.
+/// gives the rest pose with status 3 instead of reaching the solver. `ns.read` holds the
+/// chain inputs; `solve` writes its solution into the given buffer.
 pub(super) fn solve_and_write(
     ctx: &mut ComputeContext<'_>,
     outputs: &ChainOutputs,
-    read: &ChainRead,
+    ns: &mut NodeScratch,
     goal: &GoalRead,
     extra_non_finite: Option<&'static str>,
-    solve: impl FnOnce(&Chain) -> IkSolution,
+    solve: impl FnOnce(&Chain, &mut Solvers, &mut IkSolution),
 ) {
-    let chain = read.chain();
+    let NodeScratch {
+        read,
+        chain,
+        sol,
+        pose,
+        solvers,
+        euler,
+    } = ns;
+    read.chain_into(chain, euler);
     let bad = read.non_finite().or(goal.non_finite).or(extra_non_finite);
-    let sol = match bad {
-        Some(name) => IkSolution::invalid(&chain, IkError::NonFinite(name)),
-        None => solve(&chain),
-    };
-    let pose = OutPose::blended(read, &sol, None);
-    outputs.write(ctx, read, &pose, ErrorValue::Goal(goal.goal));
+    match bad {
+        Some(name) => *sol = IkSolution::invalid(chain, IkError::NonFinite(name)),
+        None => solve(chain, solvers, sol),
+    }
+    let needed = outputs.rotate_needed(ctx, read);
+    pose.blend_into(read, sol, None, needed);
+    outputs.write(ctx, read, pose, ErrorValue::Goal(goal.goal));
 }
 
 /// `ikRP`: rotate-plane IK (Maya's ikRPsolver on an ikHandle, as one node).
 ///
 /// Three joints use the exact law-of-cosines two-bone solve; other lengths (2 or more
-/// joints) the plane-constrained FABRIK of [`solve_rotate_plane`]. `poleVector` is a
+/// joints) the plane-constrained FABRIK of
+/// [`solve_rotate_plane`](super::two_bone::solve_rotate_plane). `poleVector` is a
 /// world-space vector from the start joint: the middle joint bends towards the side it
 /// points to, in the plane of start joint, goal and `start + poleVector`; `twist`
 /// (degrees) turns that plane about the start→goal axis. A zero or collinear pole keeps
@@ -186,7 +198,14 @@ impl NodeType for IkRp {
     }
 
     fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
-        let read = self.chain.read(ctx, 2, "ikRP")?;
+        with_node_scratch(|ns| self.compute_with(ctx, ns))
+    }
+}
+
+impl IkRp {
+    /// The compute, with the per-thread buffers.
+    fn compute_with(&self, ctx: &mut ComputeContext<'_>, ns: &mut NodeScratch) -> Result<(), ComputeError> {
+        self.chain.read_into(ctx, 2, "ikRP", &mut ns.read)?;
         let goal = self.goal.read(ctx);
         let pole = ctx.get(self.pole_vector);
         let twist = ctx.get(self.twist);
@@ -201,12 +220,16 @@ impl NodeType for IkRp {
             pole_vector: pole,
             twist: twist.to_radians(),
         };
-        solve_and_write(ctx, &self.outputs, &read, &goal, extra, |chain| {
-            if chain.joints.len() == 3 {
-                solve_two_bone(chain, goal.goal, &rp, &goal.reach)
+        // The node's `error` is measured from `endEffector` (another compute group), so the
+        // solver skips its own error. Three joints: `solve_two_bone`, which is the
+        // rotate-plane solve with default iteration settings.
+        solve_and_write(ctx, &self.outputs, ns, &goal, extra, |chain, solvers, out| {
+            let iter = if chain.joints.len() == 3 {
+                IterParams::default()
             } else {
-                solve_rotate_plane(chain, goal.goal, &rp, &goal.reach, &goal.iter)
-            }
+                goal.iter
+            };
+            solve_rotate_plane_into(chain, goal.goal, &rp, &goal.reach, &iter, &mut solvers.rp, out, false);
         });
         Ok(())
     }

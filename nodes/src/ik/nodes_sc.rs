@@ -4,6 +4,7 @@ use sinew_core::{ComputeContext, ComputeError, Input, NodeSpec, NodeType, SpecEr
 
 use super::iterative::{solve_sc, IterMethod};
 use super::node_chain::{ChainInputs, ChainOutputs, ErrorKind};
+use super::node_scratch::{with_node_scratch, NodeScratch};
 use super::nodes_rp::{solve_and_write, GoalInputs};
 
 /// Choices of the `solver` enum, by index.
@@ -52,7 +53,14 @@ impl NodeType for IkSc {
     }
 
     fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
-        let read = self.chain.read(ctx, 2, "ikSC")?;
+        with_node_scratch(|ns| self.compute_with(ctx, ns))
+    }
+}
+
+impl IkSc {
+    /// The compute, with the per-thread buffers.
+    fn compute_with(&self, ctx: &mut ComputeContext<'_>, ns: &mut NodeScratch) -> Result<(), ComputeError> {
+        self.chain.read_into(ctx, 2, "ikSC", &mut ns.read)?;
         let mut goal = self.goal.read(ctx);
         goal.iter.method = match ctx.get(self.solver) {
             0 => IterMethod::Fabrik,
@@ -63,8 +71,8 @@ impl NodeType for IkSc {
                 )))
             }
         };
-        solve_and_write(ctx, &self.outputs, &read, &goal, None, |chain| {
-            solve_sc(chain, goal.goal, &goal.iter, &goal.reach)
+        solve_and_write(ctx, &self.outputs, ns, &goal, None, |chain, _, out| {
+            *out = solve_sc(chain, goal.goal, &goal.iter, &goal.reach);
         });
         Ok(())
     }

@@ -5,8 +5,9 @@ use std::sync::Arc;
 use sinew_core::{ComputeContext, ComputeError, Curve, Input, NodeSpec, NodeType, SpecError, Unit};
 
 use super::chain::{IkError, IkSolution};
-use super::node_chain::{ChainInputs, ChainOutputs, ErrorKind, ErrorValue, OutPose};
-use super::spline::{solve_spline, SplineParams};
+use super::node_chain::{ChainInputs, ChainOutputs, ErrorKind, ErrorValue};
+use super::node_scratch::{with_node_scratch, NodeScratch};
+use super::spline::{solve_spline_into, SplineParams};
 
 /// `ikSpline`: spline IK (Maya's ikSplineSolver on a spline ikHandle, as one node).
 ///
@@ -94,13 +95,28 @@ impl NodeType for IkSpline {
     }
 
     fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
-        let read = self.chain.read(ctx, 2, "ikSpline")?;
+        with_node_scratch(|ns| self.compute_with(ctx, ns))
+    }
+}
+
+impl IkSpline {
+    /// The compute, with the per-thread buffers.
+    fn compute_with(&self, ctx: &mut ComputeContext<'_>, ns: &mut NodeScratch) -> Result<(), ComputeError> {
+        let NodeScratch {
+            read,
+            chain,
+            sol,
+            pose,
+            solvers,
+            euler,
+        } = ns;
+        self.chain.read_into(ctx, 2, "ikSpline", read)?;
         let curve = ctx.get(self.curve);
         let offset = ctx.get(self.offset);
         let roll = ctx.get(self.roll);
         let twist = ctx.get(self.twist);
         let max_stretch = ctx.get(self.max_stretch);
-        let chain = read.chain();
+        read.chain_into(chain, euler);
         let bad = read.non_finite().or_else(|| {
             [
                 (offset, "offset"),
@@ -112,8 +128,11 @@ impl NodeType for IkSpline {
             .find(|(v, _)| !v.is_finite())
             .map(|(_, name)| *name)
         });
-        let (sol, root) = match bad {
-            Some(name) => (IkSolution::invalid(&chain, IkError::NonFinite(name)), None),
+        let root = match bad {
+            Some(name) => {
+                *sol = IkSolution::invalid(chain, IkError::NonFinite(name));
+                None
+            }
             None => {
                 let mut params = SplineParams {
                     offset: 0.0,
@@ -123,16 +142,17 @@ impl NodeType for IkSpline {
                     max_stretch: if max_stretch > 0.0 { max_stretch } else { f64::INFINITY },
                     root_on_curve: ctx.get(self.root_on_curve),
                 };
-                let mut s = solve_spline(&chain, &curve, &params);
-                if offset != 0.0 && !s.solution.is_invalid() {
-                    params.offset = offset * s.curve_length;
-                    s = solve_spline(&chain, &curve, &params);
+                let (mut root, length) = solve_spline_into(chain, &curve, &params, &mut solvers.spline, sol);
+                if offset != 0.0 && !sol.is_invalid() {
+                    params.offset = offset * length;
+                    (root, _) = solve_spline_into(chain, &curve, &params, &mut solvers.spline, sol);
                 }
-                (s.solution, Some(s.root_translate))
+                Some(root)
             }
         };
-        let pose = OutPose::blended(&read, &sol, root);
-        self.outputs.write(ctx, &read, &pose, ErrorValue::Value(sol.error));
+        let needed = self.outputs.rotate_needed(ctx, read);
+        pose.blend_into(read, sol, root, needed);
+        self.outputs.write(ctx, read, pose, ErrorValue::Value(sol.error));
         Ok(())
     }
 }

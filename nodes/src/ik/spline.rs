@@ -84,16 +84,72 @@ pub struct SplineSolution {
 
 /// ikSpline: lays the chain along `curve` (world space) and returns joint rotations.
 pub fn solve_spline(chain: &Chain, curve: &Curve, params: &SplineParams) -> SplineSolution {
-    let fail = |e: IkError| SplineSolution {
-        solution: IkSolution::invalid(chain, e),
-        root_translate: chain.joints.first().map_or(DVec3::ZERO, |j| j.translate),
-        curve_params: vec![None; chain.joints.len()],
-        curve_length: 0.0,
+    let mut scratch = SplineScratch::default();
+    let mut solution = IkSolution::empty();
+    let (root_translate, curve_length) = solve_spline_into(chain, curve, params, &mut scratch, &mut solution);
+    SplineSolution {
+        solution,
+        root_translate,
+        curve_params: scratch.cparams,
+        curve_length,
+    }
+}
+
+/// Reusable buffers of [`solve_spline_into`] (refilled on every call: they carry no state).
+#[derive(Debug)]
+pub(super) struct SplineScratch {
+    prep: Prepared,
+    spline: BSpline,
+    table: ArcLengthTable,
+    lengths: Vec<f64>,
+    pos: Vec<DVec3>,
+    twist: Vec<f64>,
+    /// Per joint the curve parameter it sits at (`SplineSolution::curve_params`).
+    pub cparams: Vec<Option<f64>>,
+}
+
+impl Default for SplineScratch {
+    fn default() -> Self {
+        SplineScratch {
+            prep: Prepared::default(),
+            spline: BSpline::empty(),
+            table: ArcLengthTable::empty(),
+            lengths: Vec::new(),
+            pos: Vec::new(),
+            twist: Vec::new(),
+            cparams: Vec::new(),
+        }
+    }
+}
+
+/// [`solve_spline`] into reused buffers: the solution goes to `out` and the curve
+/// parameters to `s.cparams`; returns `(root_translate, curve_length)`. Same results as
+/// [`solve_spline`], bit for bit.
+pub(super) fn solve_spline_into(
+    chain: &Chain,
+    curve: &Curve,
+    params: &SplineParams,
+    s: &mut SplineScratch,
+    out: &mut IkSolution,
+) -> (DVec3, f64) {
+    let SplineScratch {
+        prep,
+        spline,
+        table,
+        lengths,
+        pos,
+        twist,
+        cparams,
+    } = s;
+    let mut fail = |e: IkError| {
+        *out = IkSolution::invalid(chain, e);
+        cparams.clear();
+        cparams.resize(chain.joints.len(), None);
+        (chain.joints.first().map_or(DVec3::ZERO, |j| j.translate), 0.0)
     };
-    let prep = match Prepared::new(chain) {
-        Ok(p) => p,
-        Err(e) => return fail(e),
-    };
+    if let Err(e) = prep.refill(chain) {
+        return fail(e);
+    }
     let finite = [params.offset, params.roll, params.twist].iter().all(|x| x.is_finite());
     if !finite || params.max_stretch.is_nan() {
         return fail(IkError::NonFinite("spline parameters"));
@@ -105,20 +161,18 @@ pub fn solve_spline(chain: &Chain, curve: &Curve, params: &SplineParams) -> Spli
             got: n,
         });
     }
-    let mut local = curve.clone();
-    for q in &mut local.points {
-        *q = prep.to_chain.transform_point3(*q);
+    let to_chain = prep.to_chain;
+    if let Err(msg) = spline.rebuild(curve, |q| to_chain.transform_point3(q)) {
+        return fail(IkError::Curve(msg));
     }
-    let spline = match BSpline::new(&local) {
-        Ok(s) => s,
-        Err(msg) => return fail(IkError::Curve(msg)),
-    };
-    let table = ArcLengthTable::new(&spline);
+    let spline = &*spline;
+    table.rebuild(spline);
+    let table = &*table;
     let total = table.total();
     if total.is_nan() || total <= EPS {
         return fail(IkError::Curve("the curve has zero length".into()));
     }
-    let lengths = prep.bone_lengths();
+    prep.bone_lengths_into(lengths);
     let chain_len: f64 = lengths.iter().sum();
     let start_s = if spline.is_periodic() {
         params.offset.rem_euclid(total)
@@ -132,9 +186,13 @@ pub fn solve_spline(chain: &Chain, curve: &Curve, params: &SplineParams) -> Spli
     } else {
         prep.joints[0].translate - c0
     };
-    let mut pos = vec![c0 + shift];
-    let mut cparams = vec![Some(t0)];
-    let mut bone_scale = vec![1.0; n];
+    pos.clear();
+    pos.push(c0 + shift);
+    cparams.clear();
+    cparams.push(Some(t0));
+    let bone_scale = &mut out.bone_scale;
+    bone_scale.clear();
+    bone_scale.resize(n, 1.0);
     let mut overrun = 0.0;
     if params.stretch && chain_len > EPS {
         let remaining = if spline.is_periodic() { total } else { total - start_s };
@@ -156,12 +214,12 @@ pub fn solve_spline(chain: &Chain, curve: &Curve, params: &SplineParams) -> Spli
     } else {
         let mut t = t0;
         let mut off_curve = false;
-        for l in &lengths {
+        for l in lengths.iter() {
             let prev = pos[pos.len() - 1] - shift;
             let next = if off_curve {
                 None
             } else {
-                next_on_curve(&spline, &table, t, prev, *l)
+                next_on_curve(spline, table, t, prev, *l)
             };
             match next {
                 Some(tn) => {
@@ -170,7 +228,7 @@ pub fn solve_spline(chain: &Chain, curve: &Curve, params: &SplineParams) -> Spli
                     cparams.push(Some(spline.normalize_param(tn)));
                 }
                 None => {
-                    let q = extrapolate(&spline, t, prev, *l, &pos);
+                    let q = extrapolate(spline, t, prev, *l, pos);
                     overrun += if off_curve || spline.is_periodic() {
                         *l
                     } else {
@@ -183,31 +241,24 @@ pub fn solve_spline(chain: &Chain, curve: &Curve, params: &SplineParams) -> Spli
             }
         }
     }
-    let mut sprep = prep.clone();
-    sprep.joints[0].translate = pos[0];
+    // The solved chain: the root on the curve, bones stretched (in place: `prep` is refilled
+    // on every call).
+    prep.joints[0].translate = pos[0];
     for i in 1..n {
-        sprep.joints[i].translate *= bone_scale[i - 1];
+        prep.joints[i].translate *= bone_scale[i - 1];
     }
-    let mut twist = vec![params.twist / (n - 1) as f64; n];
+    twist.clear();
+    twist.resize(n, params.twist / (n - 1) as f64);
     twist[0] = params.roll;
-    let rotations = sprep.rotations_from_positions(&pos, DQuat::IDENTITY, DVec3::ZERO, Some(&twist));
-    let status = if overrun > 0.0 {
+    prep.rotations_from_positions_into(pos, DQuat::IDENTITY, DVec3::ZERO, Some(twist), &mut out.rotations);
+    out.status = if overrun > 0.0 {
         IkStatus::Unreachable
     } else {
         IkStatus::Reached
     };
-    SplineSolution {
-        solution: IkSolution {
-            rotations,
-            bone_scale,
-            iterations: 0,
-            error: overrun,
-            status,
-        },
-        root_translate: pos[0],
-        curve_params: cparams,
-        curve_length: total,
-    }
+    out.iterations = 0;
+    out.error = overrun;
+    (pos[0], total)
 }
 
 /// First parameter after `t` whose curve point is exactly `len` from `from`; `None` if the
@@ -228,8 +279,16 @@ fn next_on_curve(spline: &BSpline, table: &ArcLengthTable, t: f64, from: DVec3, 
     };
     let mut lo = t;
     let mut f_lo = -len;
+    let (params, points) = (table.params(), table.points());
     for lap in 0..laps {
-        for (&s, q) in table.params().iter().zip(table.points()) {
+        // The samples the scan would skip at the start of the first lap (`hi <= lo`) form a
+        // prefix (the parameters increase): jump over it.
+        let first = if lap == 0 {
+            params.partition_point(|&s| s + base + lap as f64 * period <= lo)
+        } else {
+            0
+        };
+        for (&s, q) in params[first..].iter().zip(&points[first..]) {
             let hi = s + base + lap as f64 * period;
             if hi <= lo {
                 continue;

@@ -35,7 +35,7 @@
 
 use glam::{DQuat, DVec3};
 
-use super::chain::{frame_to_frame, straight_positions, Chain, IkError, IkSolution, IkStatus, Prepared, EPS};
+use super::chain::{frame_to_frame, straight_positions_into, Chain, IkError, IkSolution, IkStatus, Prepared, EPS};
 use super::iterative::{aim_axis, fabrik_positions, IterParams};
 use super::soft::{reach, ReachParams};
 
@@ -64,17 +64,23 @@ impl Default for RpParams {
 /// middle joint's bend away from straight is `PI - angle_at_middle`.
 pub fn law_of_cosines(a: f64, b: f64, d: f64) -> (f64, f64) {
     let d = d.clamp((a - b).abs(), a + b);
-    let cos_start = if a > EPS && d > EPS {
-        ((a * a + d * d - b * b) / (2.0 * a * d)).clamp(-1.0, 1.0)
-    } else {
-        1.0
-    };
     let cos_mid = if a > EPS && b > EPS {
         ((a * a + b * b - d * d) / (2.0 * a * b)).clamp(-1.0, 1.0)
     } else {
         -1.0
     };
-    (cos_start.acos(), cos_mid.acos())
+    (start_angle(a, b, d), cos_mid.acos())
+}
+
+/// The angle at the start of [`law_of_cosines`] alone (same bits), without the middle one.
+fn start_angle(a: f64, b: f64, d: f64) -> f64 {
+    let d = d.clamp((a - b).abs(), a + b);
+    let cos_start = if a > EPS && d > EPS {
+        ((a * a + d * d - b * b) / (2.0 * a * d)).clamp(-1.0, 1.0)
+    } else {
+        1.0
+    };
+    cos_start.acos()
 }
 
 /// ikRP for exactly three joints (start, middle, end): exact law-of-cosines solve.
@@ -105,88 +111,138 @@ pub fn solve_rotate_plane(
     reach_params: &ReachParams,
     iter: &IterParams,
 ) -> IkSolution {
-    let prep = match Prepared::new(chain) {
-        Ok(p) => p,
-        Err(e) => return IkSolution::invalid(chain, e),
-    };
+    let mut out = IkSolution::empty();
+    solve_rotate_plane_into(
+        chain,
+        goal,
+        rp,
+        reach_params,
+        iter,
+        &mut RpScratch::default(),
+        &mut out,
+        true,
+    );
+    out
+}
+
+/// Reusable buffers of [`solve_rotate_plane_into`] (refilled on every call: they carry no state).
+#[derive(Debug, Default)]
+pub(super) struct RpScratch {
+    prep: Prepared,
+    lengths: Vec<f64>,
+    rest_pos: Vec<DVec3>,
+    spos: Vec<DVec3>,
+    targets: Vec<DVec3>,
+}
+
+/// [`solve_rotate_plane`] into reused buffers. With `with_error` false `out.error` is
+/// left NaN (saving a forward-kinematics pass when only the pose is needed); everything
+/// else is the same as [`solve_rotate_plane`]'s, bit for bit.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn solve_rotate_plane_into(
+    chain: &Chain,
+    goal: DVec3,
+    rp: &RpParams,
+    reach_params: &ReachParams,
+    iter: &IterParams,
+    s: &mut RpScratch,
+    out: &mut IkSolution,
+    with_error: bool,
+) {
+    let RpScratch {
+        prep,
+        lengths,
+        rest_pos,
+        spos,
+        targets,
+    } = s;
+    if let Err(e) = prep.refill(chain) {
+        *out = IkSolution::invalid(chain, e);
+        return;
+    }
     if !goal.is_finite() {
-        return IkSolution::invalid(chain, IkError::NonFinite("goal"));
+        *out = IkSolution::invalid(chain, IkError::NonFinite("goal"));
+        return;
     }
     if !rp.pole_vector.is_finite() || !rp.twist.is_finite() {
-        return IkSolution::invalid(chain, IkError::NonFinite("pole vector or twist"));
+        *out = IkSolution::invalid(chain, IkError::NonFinite("pole vector or twist"));
+        return;
     }
     if !reach_params.is_valid() || iter.tolerance.is_nan() {
-        return IkSolution::invalid(chain, IkError::NonFinite("solver parameters"));
+        *out = IkSolution::invalid(chain, IkError::NonFinite("solver parameters"));
+        return;
     }
     let n = prep.joints.len();
     if n < 2 {
-        return IkSolution::invalid(
+        *out = IkSolution::invalid(
             chain,
             IkError::JointCount {
                 needed: "at least 2",
                 got: n,
             },
         );
+        return;
     }
     let g = prep.to_chain.transform_point3(goal);
     let pole = prep.to_chain.transform_vector3(rp.pole_vector);
-    let lengths = prep.bone_lengths();
+    prep.bone_lengths_into(lengths);
     let total: f64 = lengths.iter().sum();
-    let (rest_pos, _) = prep.fk(&prep.rest_rot);
+    prep.fk_positions_into(&prep.rest_rot, rest_pos);
     let p0 = rest_pos[0];
     let r = reach(g.distance(p0), total, reach_params);
-    let scaled;
-    let sprep = if r.scale == 1.0 {
-        &prep
-    } else {
-        scaled = prep.scaled(r.scale);
-        &scaled
-    };
-    let slen: Vec<f64> = lengths.iter().map(|l| l * r.scale).collect();
+    // From here on the chain is the stretched one (`Prepared::scaled`), in place.
+    if r.scale != 1.0 {
+        prep.scale_bones(r.scale);
+    }
+    let slen = &mut *lengths;
+    for l in slen.iter_mut() {
+        *l *= r.scale;
+    }
     let stotal = total * r.scale;
-    let spos: Vec<DVec3> = rest_pos.iter().map(|p| p0 + (*p - p0) * r.scale).collect();
+    spos.clear();
+    spos.extend(rest_pos.iter().map(|p| p0 + (*p - p0) * r.scale));
 
-    let u = aim_axis(g - p0, &rest_pos);
-    let planes = Planes::new(&spos, u, pole, rp.twist);
+    let u = aim_axis(g - p0, rest_pos);
+    let planes = Planes::new(spos, u, pole, rp.twist);
     let normal = u.cross(planes.w);
     let a = planes.pre_rotation();
 
     let mut iterations = 0;
     let mut converged = true;
-    let targets = if r.distance >= stotal - EPS * stotal.max(1.0) {
-        straight_positions(p0, u, &slen)
+    if r.distance >= stotal - EPS * stotal.max(1.0) {
+        straight_positions_into(p0, u, slen, targets);
     } else if n == 3 {
         let (la, lb) = (slen[0], slen[1]);
-        let (start_angle, _) = law_of_cosines(la, lb, r.distance);
+        let start_angle = start_angle(la, lb, r.distance);
         let d = r.distance.clamp((la - lb).abs(), la + lb);
         let knee = p0 + (u * start_angle.cos() + planes.w * start_angle.sin()) * la;
-        vec![p0, knee, p0 + u * d]
+        targets.clear();
+        targets.extend([p0, knee, p0 + u * d]);
     } else {
-        let mut pos: Vec<DVec3> = spos.iter().map(|p| p0 + a * (*p - p0)).collect();
+        targets.clear();
+        targets.extend(spos.iter().map(|p| p0 + a * (*p - p0)));
         let tol = iter.tolerance.max(0.0);
-        let (it, err) = fabrik_positions(&mut pos, &slen, p0 + u * r.distance, tol, iter.max_iterations);
+        let (it, err) = fabrik_positions(targets, slen, p0 + u * r.distance, tol, iter.max_iterations);
         iterations = it;
         converged = err <= tol;
-        pos
+    }
+    prep.rotations_from_positions_into(targets, a, normal, None, &mut out.rotations);
+    out.bone_scale.clear();
+    out.bone_scale.resize(n, r.scale);
+    out.bone_scale[n - 1] = 1.0;
+    out.error = if with_error {
+        prep.world_error(&out.rotations, goal)
+    } else {
+        f64::NAN
     };
-    let rotations = sprep.rotations_from_positions(&targets, a, normal, None);
-    let mut bone_scale = vec![r.scale; n];
-    bone_scale[n - 1] = 1.0;
-    let error = sprep.world_error(&rotations, goal);
-    let status = if !converged {
+    out.status = if !converged {
         IkStatus::NotConverged
     } else if r.shortened || (n == 3 && r.distance < (slen[0] - slen[1]).abs() - EPS) {
         IkStatus::Unreachable
     } else {
         IkStatus::Reached
     };
-    IkSolution {
-        rotations,
-        bone_scale,
-        iterations,
-        error,
-        status,
-    }
+    out.iterations = iterations;
 }
 
 /// The rest frame (`u_r`, `w_r`) and the target frame (`u`, `w`) of the bend plane.
