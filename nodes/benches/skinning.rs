@@ -11,9 +11,10 @@
 //! Criterion reports elements/s (vertices/s); divide 1e9 by it for ns per vertex. Before the
 //! benchmarks, the node loop is also run with a counting allocator and the allocations per
 //! compiled frame are printed, and so is an interleaved comparison: copy, LBS and prepared LBS
-//! run alternately 300 times and the fastest run of each is reported with its ratio to the
-//! copy. Alternating makes the ratio immune to the machine's drift between criterion's
-//! separate measurements (each minimum is that kernel's cost with the least interference).
+//! run alternately 300 times (each twice in a row, the second run timed, so caches are warm
+//! as in criterion's loop) and the fastest and median runs of each are reported with their
+//! ratios to the copy. Alternating makes the ratios immune to the machine's drift between
+//! criterion's separate measurements.
 //!
 //! Run briefly: `cargo bench -p sinew-nodes --no-default-features --bench skinning --
 //! --warm-up-time 1 --measurement-time 3`.
@@ -181,8 +182,9 @@ impl CopyBaseline {
     }
 }
 
-/// Copy, LBS on raw weights and LBS on prepared weights, alternately; prints each one's
-/// fastest run and its ratio to the copy's.
+/// Copy, LBS on raw weights and LBS on prepared weights, alternately, each run twice in a
+/// row and the second run timed (warm caches, as in criterion's loop); prints each one's
+/// fastest and median time and their ratios to the copy's.
 fn report_interleaved(r: &Rig, prepared: &PreparedWeights) {
     let mut copy = CopyBaseline::new(r);
     let mut out = vec![Vec3::ZERO; VERTICES];
@@ -197,30 +199,44 @@ fn report_interleaved(r: &Rig, prepared: &PreparedWeights) {
         weights: prepared.into(),
         ..raw
     };
-    let mut best = [f64::MAX; 3];
+    let mut times: [Vec<f64>; 3] = Default::default();
     for _ in 0..300 {
+        copy.run(r);
         let t = std::time::Instant::now();
         copy.run(r);
-        best[0] = best[0].min(t.elapsed().as_secs_f64());
+        times[0].push(t.elapsed().as_secs_f64());
         for (k, input) in [(1, &raw), (2, &prep)] {
-            let t = std::time::Instant::now();
-            let o = SkinOutput {
-                positions: &mut out,
-                normals: &mut [],
+            let mut lbs = || {
+                let o = SkinOutput {
+                    positions: &mut out,
+                    normals: &mut [],
+                };
+                skin(black_box(input), SkinMethod::Linear, &mut scratch, o).unwrap();
+                black_box(&out);
             };
-            skin(black_box(input), SkinMethod::Linear, &mut scratch, o).unwrap();
-            black_box(&out);
-            best[k] = best[k].min(t.elapsed().as_secs_f64());
+            lbs();
+            let t = std::time::Instant::now();
+            lbs();
+            times[k].push(t.elapsed().as_secs_f64());
         }
     }
-    let us = |s: f64| s * 1e6;
+    let [copy, raw, prep] = times.map(|mut v| {
+        v.sort_by(f64::total_cmp);
+        (v[0] * 1e6, v[v.len() / 2] * 1e6)
+    });
     println!(
-        "interleaved, fastest of 300: copy {:.1} µs; LBS positions {:.1} µs ({:.2}× copy); prepared {:.1} µs ({:.2}× copy)",
-        us(best[0]),
-        us(best[1]),
-        best[1] / best[0],
-        us(best[2]),
-        best[2] / best[0]
+        "interleaved, warm, 300 runs (fastest / median): copy {:.1} / {:.1} µs; LBS positions {:.1} / {:.1} µs \
+         ({:.2}× / {:.2}× copy); prepared {:.1} / {:.1} µs ({:.2}× / {:.2}× copy)",
+        copy.0,
+        copy.1,
+        raw.0,
+        raw.1,
+        raw.0 / copy.0,
+        raw.1 / copy.1,
+        prep.0,
+        prep.1,
+        prep.0 / copy.0,
+        prep.1 / copy.1
     );
 }
 
