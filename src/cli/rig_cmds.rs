@@ -6,10 +6,10 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, SystemTime};
 
-use sinew_core::rig::{format_rig_file, rig_dependencies, to_dot, to_json, LoadedRig};
-
-use crate::io::mesh_file::load_rig;
+use sinew_core::rig::{rig_dependencies, to_dot, to_json, LoadedRig};
 use sinew_core::Registry;
+
+use crate::io::mesh_file::{format_rig_file, load_rig};
 
 /// Loads a rig (with mesh `File(..)` references resolved) or returns its
 /// rendered diagnostics as the error.

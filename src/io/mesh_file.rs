@@ -134,6 +134,14 @@ pub fn load_rig(path: &Path, registry: &Arc<Registry>) -> Result<LoadedRig, Diag
     }
 }
 
+/// The canonical text of a rig file whose mesh attributes may reference files (what
+/// `sinew fmt` writes): like [`sinew_core::rig::format_rig_file`], but `File("...")`
+/// references load, and are written back as references rather than inline data.
+pub fn format_rig_file(path: &Path, registry: &Arc<Registry>) -> Result<String, Diagnostics> {
+    let rig = load_rig(path, registry)?;
+    Ok(sinew_core::rig::save_rig(&rig.graph, &rig.document))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -185,5 +193,35 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(err.contains("sinew facade"), "{err}");
+    }
+
+    /// `sinew fmt` keeps `File(..)` references (relative to the rig file) instead of
+    /// inlining the mesh, and inlines the data once the value no longer matches the file.
+    #[test]
+    fn formatting_keeps_file_references() {
+        let d = dir().join("fmt");
+        std::fs::create_dir_all(d.join("geo")).unwrap();
+        std::fs::create_dir_all(d.join("rigs")).unwrap();
+        std::fs::write(d.join("geo/quad.obj"), QUAD).unwrap();
+        let rig = "Rig(nodes: { \"body\": mesh(inMesh: File(\"../geo/quad.obj\")) })";
+        std::fs::write(d.join("rigs/r.rig"), rig).unwrap();
+        let registry = sinew_nodes::registry().unwrap();
+        let text = format_rig_file(&d.join("rigs/r.rig"), &registry).unwrap();
+        assert!(text.contains("inMesh: File(\"../geo/quad.obj\")"), "{text}");
+        assert!(!text.contains("positions"), "no inline mesh data: {text}");
+        // Formatting is idempotent.
+        std::fs::write(d.join("rigs/r.rig"), &text).unwrap();
+        assert_eq!(format_rig_file(&d.join("rigs/r.rig"), &registry).unwrap(), text);
+        // A changed value is written inline.
+        let mut loaded = load_rig(&d.join("rigs/r.rig"), &registry).unwrap();
+        let quad = load_mesh(d.join("geo/quad.obj")).unwrap();
+        let mut moved = quad.clone();
+        moved.positions[0].x += 1.0;
+        loaded
+            .graph
+            .set_path("body.inMesh", Value::Mesh(Arc::new(moved)))
+            .unwrap();
+        let saved = sinew_core::rig::save_rig(&loaded.graph, &loaded.document);
+        assert!(!saved.contains("File("), "{saved}");
     }
 }

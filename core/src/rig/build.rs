@@ -169,6 +169,8 @@ struct Expander<'a> {
     diags: Diagnostics,
     files: HashMap<PathBuf, Option<Rc<FileDoc>>>,
     deps: Vec<PathBuf>,
+    /// Values read from `File("...")` references, with the file (see `RigDocument`).
+    file_values: std::cell::RefCell<Vec<(Value, PathBuf)>>,
 }
 
 fn map_node_part(path: &str, f: &dyn Fn(&str) -> String) -> String {
@@ -202,7 +204,10 @@ impl<'a> Expander<'a> {
         let dir = n.span.file.parent().unwrap_or(Path::new(""));
         let path = normalize(&dir.join(rel));
         match self.source.load_value(&path, ty) {
-            Ok(v) if v.attr_type() == ty => Ok(v),
+            Ok(v) if v.attr_type() == ty => {
+                self.file_values.borrow_mut().push((v.clone(), path));
+                Ok(v)
+            }
             Ok(v) => Err(Diagnostic::new(
                 n.span.clone(),
                 format!("{what}: {} holds a {}, not a {ty}", path.display(), v.attr_type()),
@@ -707,6 +712,7 @@ pub fn load_rig_with(
         diags: Diagnostics::default(),
         files: HashMap::new(),
         deps: vec![key.clone()],
+        file_values: Default::default(),
     };
     let root = parse(text, &fpath).map_err(|d| Diagnostics { errors: vec![d] })?;
     let doc = read_document(&root, &fpath, &mut exp.diags);
@@ -722,6 +728,7 @@ pub fn load_rig_with(
     let mut diags = std::mem::take(&mut exp.diags);
     let graph = build_graph(&flat, registry, &mut diags);
     let files = exp.deps.clone();
+    let file_values = exp.file_values.take();
     drop(exp);
     let mut doc = Rc::try_unwrap(scope).map(|f| f.doc).unwrap_or_else(|rc| rc.doc.clone());
     if !diags.is_empty() {
@@ -743,6 +750,7 @@ pub fn load_rig_with(
             .collect();
     }
     doc.records = records;
+    doc.file_values = file_values;
     if doc.fps.is_some() || doc.frames.is_some() {
         graph.set_time(Time::new(
             doc.frames.map(|f| f.0).unwrap_or(0.0),

@@ -7,13 +7,14 @@
 
 use std::collections::HashMap;
 use std::fmt::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use super::diag::{Diagnostic, Diagnostics, Span};
 use super::mirror::Plane;
 use super::parse::{Ast, Item, Node};
 use crate::error::nearest;
+use crate::value::Value;
 
 /// A node as written: name, type, parent and raw attribute values.
 #[derive(Clone, Debug, PartialEq)]
@@ -130,6 +131,10 @@ pub struct RigDocument {
     pub body: Body,
     /// Filled by the loader: what each top-level use created.
     pub(crate) records: Vec<super::build::UseRecord>,
+    /// Filled by the loader: each value read from a `File("...")` reference, with the
+    /// referenced file (normalized path), so [`save_rig`](super::save_rig) writes the
+    /// reference back instead of the data while the value is unchanged.
+    pub(crate) file_values: Vec<(Value, PathBuf)>,
 }
 
 impl RigDocument {

@@ -10,6 +10,7 @@
 //! (its nodes become plain nodes), so nothing is lost.
 
 use std::collections::{HashMap, HashSet};
+use std::path::Path;
 
 use super::doc::{print_document, PrintBody, PrintNode, RigDocument};
 use super::parse::Ast;
@@ -103,6 +104,47 @@ fn plug_path(node: &str, a: &AttrSpec, index: Option<u32>, comp: Option<usize>) 
     s
 }
 
+/// `v` as rig text: `File("path")` when it is still the value the loader read from that
+/// file (the path relative to the rig file's directory), else the value itself.
+fn value_ast(doc: &RigDocument, v: &Value, a: &AttrSpec) -> Ast {
+    if v.attr_type().is_heavy() {
+        if let Some((_, file)) = doc.file_values.iter().find(|(loaded, _)| loaded.same_bits(v)) {
+            let base = doc.path.as_deref().and_then(Path::parent).unwrap_or(Path::new(""));
+            let node = |kind| super::parse::Node {
+                span: super::diag::Span {
+                    file: std::sync::Arc::from(Path::new("")),
+                    line: 0,
+                    col: 0,
+                },
+                kind,
+            };
+            let value = node(Ast::Str {
+                value: relative_path(file, base),
+                exact: false,
+            });
+            return Ast::Group {
+                name: Some("File".to_string()),
+                items: vec![super::parse::Item { key: None, value }],
+            };
+        }
+    }
+    write_value(v, Some(a))
+}
+
+/// `path` relative to the directory `base` (both normalized), with `/` separators; `path`
+/// as is when they share no root.
+fn relative_path(path: &Path, base: &Path) -> String {
+    let p: Vec<_> = path.components().collect();
+    let b: Vec<_> = base.components().collect();
+    let common = p.iter().zip(&b).take_while(|(x, y)| x == y).count();
+    if common == 0 && (path.has_root() || base.has_root()) {
+        return path.display().to_string();
+    }
+    let ups = std::iter::repeat_n("..".to_string(), b.len() - common);
+    let rest = p[common..].iter().map(|c| c.as_os_str().to_string_lossy().into_owned());
+    ups.chain(rest).collect::<Vec<_>>().join("/")
+}
+
 /// Writes `graph` as rig text, keeping `doc`'s header, components and uses.
 pub fn save_rig(graph: &Graph, doc: &RigDocument) -> String {
     let conns = user_connections(graph);
@@ -190,7 +232,7 @@ pub fn save_rig(graph: &Graph, doc: &RigDocument) -> String {
                 let undriven: Vec<(u32, Ast)> = els
                     .iter()
                     .filter(|e| e.driven_comps == [false; 3])
-                    .filter_map(|e| Some((e.index?, write_value(e.value.as_ref()?, Some(a)))))
+                    .filter_map(|e| Some((e.index?, value_ast(doc, e.value.as_ref()?, a))))
                     .collect();
                 if undriven.is_empty() {
                     continue;
@@ -221,7 +263,7 @@ pub fn save_rig(graph: &Graph, doc: &RigDocument) -> String {
             let Some(v) = &e.value else { continue };
             if e.driven_comps == [false; 3] {
                 if !v.same_bits(&a.default) {
-                    fields.push((a.name.clone(), write_value(v, Some(a))));
+                    fields.push((a.name.clone(), value_ast(doc, v, a)));
                 }
             } else if let (Some(ch), Value::Vec3(x), Value::Vec3(d)) = (&a.children, v, &a.default) {
                 for k in 0..3 {
@@ -260,11 +302,7 @@ pub fn save_rig(graph: &Graph, doc: &RigDocument) -> String {
                 let created = !a.multi || rn.values.iter().any(|(x, i, _)| *x == attr && *i == e.index);
                 if e.driven_comps == [false; 3] {
                     if !created || !v.same_bits(expected) {
-                        set.push((
-                            rank[&id],
-                            plug_path(&rn.name, a, e.index, None),
-                            write_value(v, Some(a)),
-                        ));
+                        set.push((rank[&id], plug_path(&rn.name, a, e.index, None), value_ast(doc, v, a)));
                     }
                 } else if let (Value::Vec3(x), Value::Vec3(d)) = (v, expected) {
                     for c in 0..3 {
