@@ -13,6 +13,7 @@
 //! `load(save(g)) == g` (by [`graph_eq`]); `save(load(text))` is a fixed
 //! point after one pass; no input makes the loader panic.
 
+mod assemble;
 mod build;
 pub mod diag;
 pub mod doc;

@@ -1,0 +1,224 @@
+//! Loading, second half: creating the [`Graph`] from the expanded nodes of
+//! [`super::build`] — nodes, values, parents and connections — with every error tied to
+//! a file position.
+
+use std::collections::{HashMap, HashSet};
+use std::sync::Arc;
+
+use super::build::{Flat, FlatNode};
+use super::diag::{Diagnostic, Diagnostics, Span};
+use crate::error::{nearest, Error};
+use crate::graph::{Graph, NodeId, Plug};
+use crate::path::parse_plug_path;
+use crate::registry::Registry;
+use crate::spec::AttrId;
+use crate::value::AttrType;
+
+fn resolve(graph: &Graph, path: &str, span: &Span, broken: &HashSet<&str>, diags: &mut Diagnostics) -> Option<Plug> {
+    let parts = match parse_plug_path(path) {
+        Ok(p) => p,
+        Err(e) => {
+            diags.push(
+                Diagnostic::new(span.clone(), format!("invalid plug path {path:?}: {e}"))
+                    .hint("write \"node.attribute\", \"node.attr[2]\" or \"node.translateX\""),
+            );
+            return None;
+        }
+    };
+    if broken.contains(parts.node) {
+        return None;
+    }
+    match graph.plug(path) {
+        Ok(p) => Some(p),
+        Err(Error::UnknownNode { name, suggestion }) => {
+            let hint = match suggestion {
+                Some(s) => format!("did you mean `{s}`?"),
+                None => "define the node under `nodes`, or check the name".into(),
+            };
+            diags.push(Diagnostic::new(span.clone(), format!("no node named `{name}`")).hint(hint));
+            None
+        }
+        Err(Error::UnknownAttribute {
+            node,
+            node_type,
+            attr,
+            suggestion,
+        }) => {
+            let hint = match suggestion {
+                Some(s) => format!("did you mean `{s}`? `sinew nodes {node_type}` lists its attributes"),
+                None => format!("`sinew nodes {node_type}` lists its attributes"),
+            };
+            let at = span.shifted(node.chars().count() + 1);
+            diags.push(
+                Diagnostic::new(
+                    at,
+                    format!("node `{node}` (type {node_type}) has no attribute `{attr}`"),
+                )
+                .hint(hint),
+            );
+            None
+        }
+        Err(e) => {
+            diags.push(Diagnostic::new(span.clone(), e.to_string()).hint("check the plug path"));
+            None
+        }
+    }
+}
+
+type EdgeKey = (NodeId, AttrId, NodeId, AttrId);
+
+pub(super) fn build_graph(flat: &Flat, registry: &Arc<Registry>, diags: &mut Diagnostics) -> Graph {
+    let mut g = Graph::new(registry.clone());
+    let mut first: HashMap<&str, &FlatNode> = HashMap::new();
+    let mut broken: HashSet<&str> = HashSet::new();
+    let mut ids: Vec<Option<NodeId>> = Vec::with_capacity(flat.nodes.len());
+    for n in &flat.nodes {
+        let at = n.via.clone().unwrap_or_else(|| n.span.clone());
+        if let Some(f) = first.get(n.name.as_str()) {
+            let mut d = Diagnostic::new(at, format!("duplicate node name `{}`", n.name))
+                .hint("node names must be unique; give the component instance a prefix or rename one node");
+            d = d.note(f.via.clone().unwrap_or_else(|| f.span.clone()), "first created here");
+            diags.push(d);
+            ids.push(None);
+            continue;
+        }
+        first.insert(&n.name, n);
+        if n.kind.is_none() {
+            broken.insert(&n.name);
+            ids.push(None);
+            continue;
+        }
+        match g.add_node(&n.type_name, &n.name) {
+            Ok(id) => ids.push(Some(id)),
+            Err(e) => {
+                let mut d = Diagnostic::new(n.span.clone(), e.to_string())
+                    .hint("node names are letters, digits and '_', not starting with a digit");
+                if let Some(v) = &n.via {
+                    d = d.note(v.clone(), "created by this Use");
+                }
+                diags.push(d);
+                broken.insert(&n.name);
+                ids.push(None);
+            }
+        }
+    }
+    for (n, id) in flat.nodes.iter().zip(&ids) {
+        let Some(id) = *id else { continue };
+        for v in &n.values {
+            let plug = Plug {
+                node: id,
+                attr: v.attr,
+                index: v.index,
+                component: None,
+            };
+            if let Err(e) = g.set(plug, v.value.clone()) {
+                diags.push(Diagnostic::new(v.span.clone(), e.to_string()).hint("check the value"));
+            }
+        }
+    }
+    let mut edges: HashMap<EdgeKey, (Span, String)> = HashMap::new();
+    for (n, id) in flat.nodes.iter().zip(&ids) {
+        let (Some(id), Some((p, pspan))) = (*id, &n.parent) else {
+            continue;
+        };
+        if broken.contains(p.as_str()) {
+            continue;
+        }
+        let Some(pid) = g.find_node(p) else {
+            let hint = match nearest(p, first.keys().copied()) {
+                Some(s) => format!("did you mean `{s}`?"),
+                None => "parent names a node of this rig".into(),
+            };
+            diags.push(Diagnostic::new(pspan.clone(), format!("no node named `{p}` to parent under")).hint(hint));
+            continue;
+        };
+        match g.set_parent(id, Some(pid)) {
+            Ok(()) => {
+                if let Some(dag) = g.node_spec(id).and_then(|s| s.dag.clone()) {
+                    for dst_attr in std::iter::once(dag.parent_matrix).chain(dag.links.iter().map(|l| l.child_input)) {
+                        if let Some(src) = g.source_of(Plug::new(id, dst_attr)) {
+                            edges.insert(
+                                (src.node, src.attr, id, dst_attr),
+                                (pspan.clone(), format!("parenting {} under {p}", n.name)),
+                            );
+                        }
+                    }
+                }
+            }
+            Err(e) => diags.push(
+                Diagnostic::new(pspan.clone(), e.to_string())
+                    .hint("only transform-like nodes can be parented, and not under their own children"),
+            ),
+        }
+    }
+    for c in &flat.conns {
+        let s = resolve(&g, &c.src, &c.src_span, &broken, diags);
+        let d = resolve(&g, &c.dst, &c.dst_span, &broken, diags);
+        let (Some(s), Some(d)) = (s, d) else { continue };
+        let text = format!("{} -> {}", g.plug_name(s), g.plug_name(d));
+        match g.connect(s, d) {
+            Ok(()) => {
+                edges.insert((s.node, s.attr, d.node, d.attr), (c.src_span.clone(), text));
+            }
+            Err(Error::Cycle { cycle, .. }) => {
+                let mut diag = Diagnostic::new(
+                    c.src_span.clone(),
+                    format!("connection {text} closes a plug cycle: {}", cycle.join(" -> ")),
+                )
+                .hint("plugs cannot depend on themselves; remove one of the connections in the cycle");
+                if let Some(path) = g.dependency_path((d.node, d.attr), (s.node, s.attr)) {
+                    for w in path.windows(2) {
+                        let key = (w[0].0, w[0].1, w[1].0, w[1].1);
+                        if let Some((sp, t)) = edges.get(&key) {
+                            diag = diag.note(sp.clone(), t.clone());
+                        }
+                    }
+                }
+                diags.push(diag);
+            }
+            Err(Error::ConnectTypeMismatch {
+                src,
+                src_type,
+                dst,
+                dst_type,
+            }) => {
+                let hint = if src_type == AttrType::Vec3 && dst_type == AttrType::Float {
+                    format!("connect one component, e.g. {src}X, or use a vec3 destination")
+                } else if src_type == AttrType::Float && dst_type == AttrType::Vec3 {
+                    format!("connect into one component, e.g. {dst}X")
+                } else {
+                    "both ends must have the same type (int and enum mix)".to_string()
+                };
+                diags.push(
+                    Diagnostic::new(
+                        c.dst_span.clone(),
+                        format!("type mismatch: {src} is {src_type} but {dst} is {dst_type}"),
+                    )
+                    .hint(hint),
+                );
+            }
+            Err(Error::AlreadyConnected { dst, existing }) => {
+                let mut diag = Diagnostic::new(c.dst_span.clone(), format!("{dst} is already driven by {existing}"))
+                    .hint("an input has one source; remove one of the connections");
+                if let Some(src) = g
+                    .source_of(d)
+                    .or_else(|| (0..3).find_map(|k| g.source_of(d.component(k))))
+                {
+                    if let Some((sp, t)) = edges.get(&(src.node, src.attr, d.node, d.attr)) {
+                        diag = diag.note(sp.clone(), t.clone());
+                    }
+                }
+                diags.push(diag);
+            }
+            Err(Error::ConnectToOutput { dst }) => diags.push(
+                Diagnostic::new(
+                    c.dst_span.clone(),
+                    format!("cannot connect into {dst}: it is an output"),
+                )
+                .hint("the destination must be an input; are source and destination swapped?"),
+            ),
+            Err(e) => diags.push(Diagnostic::new(c.src_span.clone(), e.to_string()).hint("check the connection")),
+        }
+    }
+    g
+}
