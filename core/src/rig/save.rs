@@ -14,7 +14,7 @@ use std::path::Path;
 
 use super::doc::{print_document, PrintBody, PrintNode, RigDocument};
 use super::parse::Ast;
-use super::typed::write_value;
+use super::typed::{synth, write_value};
 use crate::graph::{Graph, NodeId, Plug};
 use crate::spec::{AttrId, AttrSpec};
 use crate::value::{AttrType, Value};
@@ -110,15 +110,7 @@ fn value_ast(doc: &RigDocument, v: &Value, a: &AttrSpec) -> Ast {
     if v.attr_type().is_heavy() {
         if let Some((_, file)) = doc.file_values.iter().find(|(loaded, _)| loaded.same_bits(v)) {
             let base = doc.path.as_deref().and_then(Path::parent).unwrap_or(Path::new(""));
-            let node = |kind| super::parse::Node {
-                span: super::diag::Span {
-                    file: std::sync::Arc::from(Path::new("")),
-                    line: 0,
-                    col: 0,
-                },
-                kind,
-            };
-            let value = node(Ast::Str {
+            let value = synth(Ast::Str {
                 value: relative_path(file, base),
                 exact: false,
             });
@@ -238,21 +230,13 @@ pub fn save_rig(graph: &Graph, doc: &RigDocument) -> String {
                     continue;
                 }
                 let dense = undriven.iter().enumerate().all(|(k, (i, _))| *i as usize == k);
-                let syn = |kind: Ast| super::parse::Node {
-                    span: super::diag::Span {
-                        file: std::sync::Arc::from(std::path::Path::new("")),
-                        line: 0,
-                        col: 0,
-                    },
-                    kind,
-                };
                 let ast = if dense {
-                    Ast::List(undriven.into_iter().map(|(_, v)| syn(v)).collect())
+                    Ast::List(undriven.into_iter().map(|(_, v)| synth(v)).collect())
                 } else {
                     Ast::Map(
                         undriven
                             .into_iter()
-                            .map(|(i, v)| (syn(Ast::Int(i as i64)), syn(v)))
+                            .map(|(i, v)| (synth(Ast::Int(i as i64)), synth(v)))
                             .collect(),
                     )
                 };

@@ -304,7 +304,8 @@ pub fn read_value(n: &Node, ty: AttrType, attr: Option<&AttrSpec>, what: &str) -
     Ok(v)
 }
 
-fn synth(kind: Ast) -> Node {
+/// A node for `kind` with an empty, synthetic position (for written-out values).
+pub(super) fn synth(kind: Ast) -> Node {
     Node {
         span: Span {
             file: Arc::from(std::path::Path::new("")),

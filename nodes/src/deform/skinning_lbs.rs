@@ -300,6 +300,25 @@ mod tests {
             .collect()
     }
 
+    /// The kernel inputs for `w`'s rows.
+    fn lbs_of<'a>(
+        positions: &'a [Vec3],
+        normals: &'a [Vec3],
+        w: &'a Weights,
+        palette: &'a [Mat4],
+        trusted: bool,
+    ) -> Lbs<'a> {
+        Lbs {
+            positions,
+            normals,
+            offsets: &w.offsets,
+            joints: &w.joints,
+            weights: &w.weights,
+            palette,
+            trusted,
+        }
+    }
+
     fn bits(v: &[Vec3]) -> Vec<u32> {
         v.iter().flat_map(|x| x.to_array().map(f32::to_bits)).collect()
     }
@@ -352,15 +371,7 @@ mod tests {
         broken.offsets[200] = u32::MAX;
         broken.offsets[n] = broken.joints.len() as u32 + 4;
         for (w, what) in [(&uniform, "uniform"), (&mixed, "mixed"), (&broken, "broken")] {
-            let lbs = Lbs {
-                positions: &pos,
-                normals: &nrm,
-                offsets: &w.offsets,
-                joints: &w.joints,
-                weights: &w.weights,
-                palette: &pal,
-                trusted: false,
-            };
+            let lbs = lbs_of(&pos, &nrm, w, &pal, false);
             assert_kernels_agree(&lbs, what);
             assert_kernels_agree(&Lbs { palette: &[], ..lbs }, "empty palette");
         }
@@ -384,15 +395,7 @@ mod tests {
         let prepared = super::super::skin_weights::PreparedWeights::new(&clean);
         let w = prepared.weights();
         assert!(prepared.clean_max_joint().is_some_and(|m| (m as usize) < pal.len()));
-        let lbs = Lbs {
-            positions: &pos,
-            normals: &nrm,
-            offsets: &w.offsets,
-            joints: &w.joints,
-            weights: &w.weights,
-            palette: &pal,
-            trusted: true,
-        };
+        let lbs = lbs_of(&pos, &nrm, w, &pal, true);
         assert_kernels_agree(&lbs, "trusted");
         assert!(lbs.rows4(n - 2, 3).is_none(), "rows past the end");
     }
@@ -400,27 +403,14 @@ mod tests {
     #[test]
     fn uniform4_detects_exactly_four_per_row() {
         let w = Weights::from_lists([vec![(0, 1.0); 4], vec![(1, 1.0); 4], vec![(2, 1.0); 4]]);
-        let lbs = Lbs {
-            positions: &[],
-            normals: &[],
-            offsets: &w.offsets,
-            joints: &w.joints,
-            weights: &w.weights,
-            palette: &[],
-            trusted: false,
-        };
+        let lbs = lbs_of(&[], &[], &w, &[], false);
         assert_eq!(
             lbs.uniform4(1, 2).map(|(j, _)| j.to_vec()),
             Some(vec![1, 1, 1, 1, 2, 2, 2, 2])
         );
         assert!(lbs.uniform4(2, 2).is_none(), "past the end");
         let w = Weights::from_lists([vec![(0, 1.0); 4], vec![(1, 1.0); 3], vec![(2, 1.0); 5]]);
-        let lbs = Lbs {
-            offsets: &w.offsets,
-            joints: &w.joints,
-            weights: &w.weights,
-            ..lbs
-        };
+        let lbs = lbs_of(&[], &[], &w, &[], false);
         assert!(lbs.uniform4(0, 1).is_some());
         assert!(
             lbs.uniform4(0, 3).is_none(),
@@ -440,15 +430,7 @@ mod tests {
         ]);
         let pos = [Vec3::new(0.5, -1.0, 2.0); 2];
         let nrm = [Vec3::Y; 2];
-        let lbs = Lbs {
-            positions: &pos,
-            normals: &nrm,
-            offsets: &w.offsets,
-            joints: &w.joints,
-            weights: &w.weights,
-            palette: &pal,
-            trusted: false,
-        };
+        let lbs = lbs_of(&pos, &nrm, &w, &pal, false);
         let (mut p, mut n) = ([Vec3::NAN; 2], [Vec3::NAN; 2]);
         lbs.run(0, &mut p, &mut n);
         assert!((p[0] - m.transform_point3(pos[0])).length() < 1e-6);

@@ -328,15 +328,15 @@ impl Prepared {
 
     /// Rest bone lengths: entry `i` is the length of the bone from joint `i` to `i + 1`.
     pub fn bone_lengths(&self) -> Vec<f64> {
-        self.joints[1..].iter().map(|j| j.translate.length()).collect()
+        let mut out = Vec::with_capacity(self.joints.len().saturating_sub(1));
+        self.bone_lengths_into(&mut out);
+        out
     }
 
     /// The same chain with every bone scaled by `s` (uniform stretch).
     pub fn scaled(&self, s: f64) -> Prepared {
         let mut out = self.clone();
-        for j in out.joints.iter_mut().skip(1) {
-            j.translate *= s;
-        }
+        out.scale_bones(s);
         out
     }
 

@@ -220,29 +220,7 @@ impl Common {
 /// Whether `m` is bit for bit [`DMat4::IDENTITY`] (so `-0.0` entries count as different).
 #[inline]
 fn is_identity_bits(m: &DMat4) -> bool {
-    const ID: [u64; 16] = [
-        0x3ff0_0000_0000_0000,
-        0,
-        0,
-        0,
-        0,
-        0x3ff0_0000_0000_0000,
-        0,
-        0,
-        0,
-        0,
-        0x3ff0_0000_0000_0000,
-        0,
-        0,
-        0,
-        0,
-        0x3ff0_0000_0000_0000,
-    ];
-    m.to_cols_array()
-        .iter()
-        .zip(ID)
-        .fold(0u64, |acc, (x, id)| acc | (x.to_bits() ^ id))
-        == 0
+    m.to_cols_array().map(f64::to_bits) == DMat4::IDENTITY.to_cols_array().map(f64::to_bits)
 }
 
 /// Maya's `transform` node: `matrix` is

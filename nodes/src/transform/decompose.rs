@@ -204,13 +204,9 @@ fn compose_with_rotation(translate: DVec3, rot: DMat3, scale: DVec3, shear: DVec
 /// Translation, rotation and scale of `m`, shear dropped (see [`decompose`]
 /// for the conventions). A non-finite matrix gives identity values.
 pub fn to_translate_rotate_scale(m: DMat4) -> (DVec3, DQuat, DVec3) {
-    if !m.is_finite() {
-        let d = Decomposed::IDENTITY;
-        return (d.translate, d.quat, d.scale);
-    }
-    // As `decompose`, without the Euler angles nobody asked for.
-    let (rot, scale, _) = split_rotation_scale_shear(DMat3::from_mat4(m));
-    (m.w_axis.truncate(), sanitize_quat(DQuat::from_mat3(&rot)), scale)
+    let d = Decomposed::IDENTITY;
+    let (t, q, s, _) = decompose_quat(m).unwrap_or((d.translate, d.quat, d.scale, d.shear));
+    (t, q, s)
 }
 
 /// `m` with scale and shear removed: glam `T * R` from [`decompose`].

@@ -295,9 +295,10 @@ impl NodeType for PickMatrix {
             m
         } else {
             let d = Decomposed::IDENTITY;
+            let identity = (d.translate, d.quat, d.scale, d.shear);
             let (t, q, s, sh) = match (m.is_finite(), flags[1] || flags[2] || flags[3]) {
-                (false, _) => (d.translate, d.quat, d.scale, d.shear),
-                (true, true) => decompose_quat(m).unwrap_or((d.translate, d.quat, d.scale, d.shear)),
+                (false, _) => identity,
+                (true, true) => decompose_quat(m).unwrap_or(identity),
                 // Translation only: nothing to decompose.
                 (true, false) => (m.w_axis.truncate(), d.quat, d.scale, d.shear),
             };
