@@ -315,15 +315,22 @@ impl Prepared {
     /// The positions of [`Self::fk`] into `out` (cleared first), without the world rotations.
     pub fn fk_positions_into(&self, rot: &[DQuat], out: &mut Vec<DVec3>) {
         out.clear();
-        let (mut p, mut q) = (DVec3::ZERO, DQuat::IDENTITY);
+        out.extend(self.fk_positions(rot));
+    }
+
+    /// The joint positions of [`Self::fk`], one at a time (the last joint's rotation, which
+    /// moves no joint, is not computed).
+    fn fk_positions<'a>(&'a self, rot: &'a [DQuat]) -> impl Iterator<Item = DVec3> + 'a {
         let n = self.joints.len();
-        for (i, j) in self.joints.iter().enumerate() {
-            p += q * j.translate;
-            out.push(p);
+        let mut state = (DVec3::ZERO, DQuat::IDENTITY);
+        self.joints.iter().zip(rot).enumerate().map(move |(i, (j, &r))| {
+            let (p, q) = &mut state;
+            *p += *q * j.translate;
             if i + 1 < n {
-                q = (q * j.joint_orient * rot[i] * j.rotate_axis).normalize();
+                *q = (*q * j.joint_orient * r * j.rotate_axis).normalize();
             }
-        }
+            *p
+        })
     }
 
     /// Rest bone lengths: entry `i` is the length of the bone from joint `i` to `i + 1`.
@@ -356,15 +363,7 @@ impl Prepared {
 
     /// World-space distance from the end effector (FK of `rot`) to the world `goal`.
     pub fn world_error(&self, rot: &[DQuat], goal: DVec3) -> f64 {
-        // The end position of `fk(rot)`: the last joint's rotation never moves it.
-        let (mut end, mut q) = (DVec3::ZERO, DQuat::IDENTITY);
-        let n = self.joints.len();
-        for (i, j) in self.joints.iter().enumerate() {
-            end += q * j.translate;
-            if i + 1 < n {
-                q = (q * j.joint_orient * rot[i] * j.rotate_axis).normalize();
-            }
-        }
+        let end = self.fk_positions(rot).last().unwrap_or(DVec3::ZERO);
         let e = self.to_world.transform_point3(end).distance(goal);
         if e.is_finite() {
             e
