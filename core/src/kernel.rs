@@ -328,32 +328,14 @@ mod tests {
     use std::sync::Arc;
 
     use super::*;
-    use crate::node::NodeType;
     use crate::registry::Registry;
     use crate::{testing, CompileOptions, Graph, Instance, Program, Time};
 
-    /// `fma3`: `output = a * b + c` through a custom kernel (three inputs).
-    struct Fma {
-        spec: NodeSpec,
-        kernel: ScalarKernel,
-    }
-
+    /// `fma3`'s kernel: `output = a * b + c` (a custom op with three inputs).
     fn fma(x: &[f64]) -> f64 {
         match x {
             [a, b, c, ..] => a * b + c,
             _ => 0.0,
-        }
-    }
-
-    impl NodeType for Fma {
-        fn spec(&self) -> &NodeSpec {
-            &self.spec
-        }
-        fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
-            self.kernel.compute(ctx)
-        }
-        fn scalar_kernel(&self) -> Option<&ScalarKernel> {
-            Some(&self.kernel)
         }
     }
 
@@ -367,8 +349,8 @@ mod tests {
         let c = s.input("c", 0.0);
         let out = s.output("output", 0.0);
         let spec = s.build().unwrap();
-        let kernel = ScalarKernel::new(&spec, &[a, b, c], out, ScalarOp::Custom(fma)).unwrap();
-        r.register(Fma { spec, kernel }).unwrap();
+        r.register(KernelNode::new(spec, &[a, b, c], out, ScalarOp::Custom(fma)).unwrap())
+            .unwrap();
         Arc::new(r)
     }
 
