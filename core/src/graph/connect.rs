@@ -141,11 +141,20 @@ impl Graph {
             .ensure(src.elem(), || src_default)
             .1;
         if src_created {
-            // A new output element must be filled by its node's next compute.
+            // A new output element must be filled by its node's next compute. The group
+            // becomes dirty through its outputs like any other change, so everything
+            // downstream of it is dirty too (setting the flag alone would leave clean groups
+            // below a dirty one, which later pushes stop at).
             let n = &mut self.nodes[src.node];
-            if let Some(g) = n.spec().group_of(src.attr) {
-                n.groups[g as usize].force = true;
-                n.groups[g as usize].dirty = true;
+            let kind = n.kind.clone();
+            if let Some(g) = kind.spec().group_of(src.attr) {
+                let gs = &mut n.groups[g as usize];
+                gs.force = true;
+                if !std::mem::replace(&mut gs.dirty, true) {
+                    for &o in &kind.spec().groups()[g as usize].outputs {
+                        self.push_dirty(src.node, o);
+                    }
+                }
             }
             self.push_dirty(src.node, src.attr);
         }

@@ -346,3 +346,20 @@ fn observed_outputs_prune_unread_steps() {
     // Inputs stay readable.
     assert!(p.handle("unread.input1").is_ok());
 }
+
+/// Found by `random_edits`: connecting from a new element of a multi output marked its
+/// node dirty without marking what its other outputs feed, so a later change upstream
+/// stopped at that dirty node and left the downstream value stale.
+#[test]
+fn a_new_output_element_keeps_everything_below_its_node_dirty() {
+    let mut g = graph();
+    g.add_node("sumMulti", "s").unwrap();
+    g.add_node("add", "below").unwrap();
+    g.add_node("add", "spread_user").unwrap();
+    g.set_path("s.input[0]", Value::Float(2.0)).unwrap();
+    g.connect_path("s.output", "below.input1").unwrap();
+    assert_eq!(f(g.get_path("below.output").unwrap()), 2.0); // everything clean
+    g.connect_path("s.spread[0]", "spread_user.input1").unwrap(); // creates spread[0]
+    g.set_path("s.input[0]", Value::Float(-8.0)).unwrap();
+    assert_eq!(f(g.get_path("below.output").unwrap()), -8.0);
+}
