@@ -44,8 +44,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     let per = start.elapsed().as_secs_f64() / frames as f64;
     println!(
-        "{} steps per frame, {:.2} µs per frame (checksum {checksum:.6})",
+        "{} steps per frame ({} while the rig's switches keep their values), {:.2} µs per frame (checksum {checksum:.6})",
         program.frame_step_count(),
+        program
+            .guarded_frame_step_count()
+            .map_or("no guarded schedule".to_string(), |n| n.to_string()),
         per * 1e6
     );
     Ok(())

@@ -436,3 +436,57 @@ fn biped_arm_ik_reaches_its_control_with_stretch_and_soft_ik() {
     assert!((world_pos(&mut g, "wrist_L") - ctrl).length() < 1e-6);
     assert!(float(g.get_path("shoulder_L.scaleX").unwrap()) > 1.0);
 }
+
+#[test]
+fn biped_fk_arms_run_no_arm_ik_until_switched_to_ik() {
+    let mut g = load("biped/biped.ron").graph;
+    let names = joints(&g);
+    let observed = names
+        .iter()
+        .map(|n| g.plug(&format!("{n}.worldMatrix")).unwrap())
+        .collect();
+    let options = CompileOptions {
+        observed: Some(observed),
+        ..Default::default()
+    };
+    let program = Arc::new(Program::compile(&g, &options).unwrap());
+    // Arms in FK (as authored): per side the arm's ikRP, its pole vector and wrist orient
+    // constraints, the elbow's pickMatrix and inverseMatrix, and the stretch blend are not run.
+    let general = program.frame_step_count();
+    let guarded = program.guarded_frame_step_count().unwrap();
+    assert!(guarded + 12 <= general, "{guarded} guarded steps of {general}");
+    assert!(program.handle("arm_ik_L.outRotate[0]").is_err());
+    let handles: Vec<PlugHandle> = names
+        .iter()
+        .map(|n| program.handle(&format!("{n}.worldMatrix")).unwrap())
+        .collect();
+    let switch = [
+        program.handle("arm_settings_L.input").unwrap(),
+        program.handle("arm_settings_R.input").unwrap(),
+    ];
+    let mut inst = Instance::new(program.clone());
+    let check = |g: &mut Graph, inst: &mut Instance, frame: f64| {
+        let time = Time::new(frame, FPS);
+        g.set_time(time);
+        inst.evaluate(time).unwrap();
+        for (name, h) in names.iter().zip(&handles) {
+            let lazy = g.get_path(&format!("{name}.worldMatrix")).unwrap();
+            assert!(lazy.same_bits(&inst.get(h)), "frame {frame} {name}");
+        }
+    };
+    for (ik, frames) in [
+        (0.0, [1.0, 7.0, 30.0]),
+        (1.0, [2.0, 13.0, 40.0]),
+        (0.0, [3.0, 20.0, 47.0]),
+    ] {
+        for (h, side) in switch.iter().zip(["L", "R"]) {
+            inst.set(h, Value::Float(ik)).unwrap();
+            g.set_path(&format!("arm_settings_{side}.input"), Value::Float(ik))
+                .unwrap();
+        }
+        for frame in frames {
+            check(&mut g, &mut inst, frame);
+            assert_eq!(inst.runs_guarded_schedule(), ik == 0.0, "ik {ik} frame {frame}");
+        }
+    }
+}

@@ -10,6 +10,7 @@
 pub mod data;
 pub mod error;
 pub mod graph;
+pub mod inactive;
 pub mod kernel;
 pub mod node;
 pub mod path;
@@ -25,7 +26,7 @@ pub use data::{Curve, CurveForm, Mesh, Weights};
 pub use error::{ComputeError, Error, Result, SpecError};
 pub use graph::{EvalStats, Graph, NodeId, Plug};
 pub use kernel::{KernelNode, ScalarKernel, ScalarOp, MAX_KERNEL_INPUTS};
-pub use node::{ComputeContext, NodeType, Time};
+pub use node::{ComputeContext, KnownInputs, NodeType, Time};
 pub use program::{evaluate_batch, CompileOptions, Instance, PlugHandle, Program};
 pub use registry::Registry;
 pub use rig::{

@@ -10,6 +10,7 @@ use std::sync::Arc;
 
 use crate::error::ComputeError;
 use crate::graph::store::AttrStore;
+pub use crate::inactive::KnownInputs;
 use crate::kernel::ScalarKernel;
 use crate::program::{AttrBinding, Binding, CompiledTables};
 use crate::spec::{AttrId, Input, MultiInput, MultiOutput, NodeSpec, Output};
@@ -39,6 +40,20 @@ pub trait NodeType: Send + Sync + 'static {
     /// the kernel gives. The default is `None` (always call `compute`).
     fn scalar_kernel(&self) -> Option<&ScalarKernel> {
         None
+    }
+
+    /// For selector nodes (a blend at weight 0 or 1, a condition with fixed terms): the
+    /// inputs that `compute` does not read given the inputs whose values are already known
+    /// when a program is compiled (see [`KnownInputs`]). A compiled program then leaves out
+    /// the steps that only feed those inputs (an FK/IK switch set to FK costs no IK solve).
+    ///
+    /// The contract: while every input read through `known` keeps the value it returned,
+    /// no output bit of this node depends on the listed inputs. The program checks those
+    /// values after each full evaluation and runs everything when one has changed. The
+    /// default lists nothing.
+    fn unread_inputs(&self, known: &KnownInputs<'_>) -> Vec<AttrId> {
+        let _ = known;
+        Vec::new()
     }
 }
 

@@ -18,6 +18,7 @@ use rayon::prelude::*;
 
 use crate::error::{nearest, ComputeError, Error, Result};
 use crate::graph::{Graph, NodeId, Plug};
+use crate::inactive::{self, Guard};
 use crate::kernel::KernelStep;
 use crate::node::{ComputeContext, NodeType, Time};
 use crate::path::{parse_plug_path, resolve_attr, AttrLookupError};
@@ -178,6 +179,29 @@ pub(crate) fn frame_schedule(steps: &[Step], frame_steps: &[u32]) -> Vec<Step> {
         .collect()
 }
 
+/// The smaller frame schedule selector nodes allow (see [`crate::inactive`]): valid while
+/// every guard holds.
+#[derive(Clone)]
+pub(crate) struct GuardedSchedule {
+    /// Positions in `Program::steps` of the steps that run every frame.
+    pub frame_steps: Vec<u32>,
+    /// Copies of those steps.
+    pub frame_schedule: Vec<Step>,
+    /// The values the schedule relies on.
+    pub guards: Vec<Guard>,
+}
+
+impl GuardedSchedule {
+    /// The schedule of `frame_steps` (positions in `steps`) under `guards`.
+    pub(crate) fn new(steps: &[Step], frame_steps: Vec<u32>, guards: Vec<Guard>) -> Self {
+        GuardedSchedule {
+            frame_schedule: frame_schedule(steps, &frame_steps),
+            frame_steps,
+            guards,
+        }
+    }
+}
+
 /// Options for [`Program::compile`].
 #[derive(Clone, Debug, Default)]
 pub struct CompileOptions {
@@ -204,6 +228,8 @@ pub struct Program {
     pub(crate) frame_steps: Vec<u32>,
     /// Copies of the steps listed in `frame_steps`, so a frame walks one slice.
     pub(crate) frame_schedule: Vec<Step>,
+    /// The smaller frame schedule that selector nodes allow, when they allow one.
+    pub(crate) guarded: Option<GuardedSchedule>,
     pub(crate) attr_bindings: Vec<AttrBinding>,
     pub(crate) tables: CompiledTables,
     pub(crate) initial: Vec<Value>,
@@ -220,6 +246,7 @@ impl std::fmt::Debug for Program {
         f.debug_struct("Program")
             .field("steps", &self.steps.len())
             .field("frame_steps", &self.frame_steps.len())
+            .field("guarded_frame_steps", &self.guarded_frame_step_count())
             .field("slots", &self.initial.len())
             .finish()
     }
@@ -256,6 +283,13 @@ impl Program {
     /// Number of steps that re-run every frame.
     pub fn frame_step_count(&self) -> usize {
         self.frame_steps.len()
+    }
+
+    /// Number of steps that re-run every frame while the values selector nodes were
+    /// compiled against hold (an FK/IK blend still at FK...): `None` when no node of the
+    /// program has inputs it does not read (see [`NodeType::unread_inputs`]).
+    pub fn guarded_frame_step_count(&self) -> Option<usize> {
+        self.guarded.as_ref().map(|g| g.frame_steps.len())
     }
 
     /// Number of value slots.
@@ -356,6 +390,8 @@ pub struct Instance {
     program: Arc<Program>,
     slots: Vec<Value>,
     needs_full: bool,
+    /// The last full evaluation found every guard of the guarded schedule holding.
+    guarded: bool,
 }
 
 impl std::fmt::Debug for Instance {
@@ -363,6 +399,7 @@ impl std::fmt::Debug for Instance {
         f.debug_struct("Instance")
             .field("slots", &self.slots.len())
             .field("needs_full", &self.needs_full)
+            .field("guarded", &self.guarded)
             .finish()
     }
 }
@@ -373,6 +410,7 @@ impl Clone for Instance {
             program: self.program.clone(),
             slots: self.slots.clone(),
             needs_full: self.needs_full,
+            guarded: self.guarded,
         }
     }
 }
@@ -385,6 +423,7 @@ impl Instance {
             program,
             slots,
             needs_full: true,
+            guarded: false,
         }
     }
 
@@ -447,18 +486,30 @@ impl Instance {
     }
 
     /// Evaluates the program at `time`: the whole program on the first call
-    /// or after a non-dynamic input changed, otherwise only the frame steps.
+    /// or after a non-dynamic input changed, otherwise only the frame steps
+    /// (the guarded schedule's while its guards hold).
     pub fn evaluate(&mut self, time: Time) -> Result<()> {
         let program = self.program.clone();
-        let result = if self.needs_full {
-            run_steps(&program, program.steps.iter(), &mut self.slots, time)
-        } else {
-            run_steps(&program, program.frame_schedule.iter(), &mut self.slots, time)
-        };
-        if result.is_ok() {
+        if self.needs_full {
+            run_steps(&program, program.steps.iter(), &mut self.slots, time)?;
             self.needs_full = false;
+            self.guarded = program
+                .guarded
+                .as_ref()
+                .is_some_and(|g| g.guards.iter().all(|x| x.holds(&program.tables, &self.slots)));
+            return Ok(());
         }
-        result
+        match &program.guarded {
+            Some(g) if self.guarded => run_steps(&program, g.frame_schedule.iter(), &mut self.slots, time),
+            _ => run_steps(&program, program.frame_schedule.iter(), &mut self.slots, time),
+        }
+    }
+
+    /// Whether frame evaluations run the guarded schedule (see
+    /// [`Program::guarded_frame_step_count`]): true after a full evaluation found the
+    /// values selector nodes were compiled against unchanged.
+    pub fn runs_guarded_schedule(&self) -> bool {
+        self.guarded && self.program.guarded.is_some()
     }
 
     /// Evaluates every step regardless of what changed.
@@ -475,23 +526,32 @@ fn run_steps<'a>(
     time: Time,
 ) -> Result<()> {
     for step in steps {
-        if let Some(k) = &step.kernel {
-            if k.run(slots) {
-                continue;
-            }
-        }
-        let base = step.attr_base as usize;
-        let attrs = program
-            .attr_bindings
-            .get(base..base + step.attr_count as usize)
-            .unwrap_or(&[]);
-        let kind: &dyn NodeType = &*step.kind;
-        let mut ctx = ComputeContext::compiled(&mut *slots, attrs, &program.tables, kind, step.group, time);
-        if let Err(e) = kind.compute(&mut ctx) {
+        if let Err(e) = run_step(step, &program.attr_bindings, &program.tables, slots, time) {
             return Err(step_error(program, step, e));
         }
     }
     Ok(())
+}
+
+/// Runs one step over `slots`: its scalar kernel when it has one, else its compute.
+#[inline(always)]
+pub(crate) fn run_step(
+    step: &Step,
+    attr_bindings: &[AttrBinding],
+    tables: &CompiledTables,
+    slots: &mut [Value],
+    time: Time,
+) -> std::result::Result<(), ComputeError> {
+    if let Some(k) = &step.kernel {
+        if k.run(slots) {
+            return Ok(());
+        }
+    }
+    let base = step.attr_base as usize;
+    let attrs = attr_bindings.get(base..base + step.attr_count as usize).unwrap_or(&[]);
+    let kind: &dyn NodeType = &*step.kind;
+    let mut ctx = ComputeContext::compiled(slots, attrs, tables, kind, step.group, time);
+    kind.compute(&mut ctx)
 }
 
 /// The error of a failed step, naming its node (out of line: the loop stays small).
@@ -705,6 +765,7 @@ impl<'g> Compiler<'g> {
         let n = steps.len();
         let mut deps: Vec<Vec<u32>> = vec![Vec::new(); n];
         let mut reads_dynamic = vec![false; n];
+        let mut reads: Vec<Vec<(AttrId, u32)>> = vec![Vec::new(); n];
         let mut buf = Vec::new();
         for (si, step) in steps.iter().enumerate() {
             let spec = step.kind.spec();
@@ -714,6 +775,7 @@ impl<'g> Compiler<'g> {
                     buf.clear();
                     slot_reads(eb.binding, &mut buf);
                     for &s in &buf {
+                        reads[si].push((a, s));
                         if dynamic_slot[s as usize] {
                             reads_dynamic[si] = true;
                         }
@@ -760,6 +822,7 @@ impl<'g> Compiler<'g> {
         }
         // Prune steps nothing observed needs.
         let mut needed = vec![options.observed.is_none(); n];
+        let mut seeds: Option<Vec<u32>> = None;
         if let Some(observed) = &options.observed {
             let mut stack = Vec::new();
             for p in observed {
@@ -769,23 +832,18 @@ impl<'g> Compiler<'g> {
                 for s in reads {
                     if let Some(prod) = self.output_slot_producer[s as usize] {
                         if let Some(&d) = step_of.get(&prod) {
-                            stack.push(d as usize);
+                            stack.push(d);
                         }
                     }
                 }
             }
+            seeds = Some(stack.clone());
             while let Some(i) = stack.pop() {
-                if !std::mem::replace(&mut needed[i], true) {
-                    stack.extend(deps[i].iter().map(|&d| d as usize));
+                if !std::mem::replace(&mut needed[i as usize], true) {
+                    stack.extend(deps[i as usize].iter().copied());
                 }
             }
             order.retain(|&i| needed[i as usize]);
-        }
-        let mut pruned_slot = vec![false; self.initial.len()];
-        for (s, prod) in self.output_slot_producer.iter().enumerate() {
-            if let Some(&d) = prod.as_ref().and_then(|p| step_of.get(p)) {
-                pruned_slot[s] = !needed[d as usize];
-            }
         }
         let mut dynamic = vec![false; n];
         for &i in &order {
@@ -794,6 +852,28 @@ impl<'g> Compiler<'g> {
                 || reads_dynamic[i]
                 || deps[i].iter().any(|&d| dynamic[d as usize]);
         }
+        let producer: Vec<Option<u32>> = self
+            .output_slot_producer
+            .iter()
+            .map(|p| p.as_ref().and_then(|p| step_of.get(p).copied()))
+            .collect();
+        let selective = inactive::analyse(&inactive::Analysis {
+            steps: &steps,
+            order: &order,
+            reads: &reads,
+            producer: &producer,
+            dynamic_slot: &dynamic_slot,
+            attr_bindings: &attr_bindings,
+            tables: &tables,
+            initial: &self.initial,
+            seeds: seeds.as_deref(),
+        });
+        // Handles are refused for outputs the smaller schedule may leave stale.
+        let computed = selective.as_ref().map_or(&needed, |s| &s.needed);
+        let pruned_slot = producer
+            .iter()
+            .map(|p| p.is_some_and(|d| !computed[d as usize]))
+            .collect();
         // Reorder steps into schedule order.
         let mut slots_of_steps: Vec<Option<Step>> = steps.into_iter().map(Some).collect();
         let mut sorted = Vec::with_capacity(n);
@@ -825,7 +905,9 @@ impl<'g> Compiler<'g> {
             .map(|(i, e)| (e.name.clone(), i as u32))
             .collect();
         let own_input_slot = self.output_slot_producer.iter().map(|p| p.is_none()).collect();
+        let guarded = selective.map(|s| GuardedSchedule::new(&sorted, s.frame_steps, s.guards));
         Ok(Program {
+            guarded,
             frame_schedule: frame_schedule(&sorted, &frame_steps),
             steps: sorted,
             frame_steps,

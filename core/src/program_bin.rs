@@ -13,7 +13,8 @@
 //!          assemblies   own slot, three optional component sources
 //!          shared data  heavy values (strings, meshes, weights, curves, arrays), each stored once
 //!          slots        initial values (small values inline, common constants as one byte, heavy by index)
-//!          dynamic / own-input slot bitsets, steps (node, group), frame steps
+//!          dynamic / own-input / pruned slot bitsets, steps (node, group), frame steps
+//!          guarded schedule  0, or 1 | its frame steps | guards (binding, small value)
 //! ```
 //!
 //! Node types are stored by name and resolved through the [`Registry`] given
@@ -36,8 +37,10 @@ use glam::{DMat4, DQuat, DVec3, Vec2, Vec3};
 
 use crate::data::{Curve, CurveForm, Mesh, Weights};
 use crate::error::{Error, Result};
+use crate::inactive::Guard;
 use crate::program::{
-    frame_schedule, Assembly, AttrBinding, Binding, CompiledTables, ElemBinding, NodeEntry, Program, Step,
+    frame_schedule, Assembly, AttrBinding, Binding, CompiledTables, ElemBinding, GuardedSchedule, NodeEntry, Program,
+    Step,
 };
 use crate::registry::Registry;
 use crate::spec::{AttrId, Direction, NodeSpec};
@@ -46,7 +49,7 @@ use crate::value::{AttrType, ObjectRef, Value};
 /// The first eight bytes of every compiled program.
 pub const MAGIC: &[u8; 8] = b"SINEWPRG";
 /// The format version written by this build; other versions are refused.
-pub const FORMAT_VERSION: u32 = 2;
+pub const FORMAT_VERSION: u32 = 3;
 const HEADER_LEN: usize = 8 + 4 + 4 + 8 + 8;
 
 /// FNV-1a, 64 bit: the payload checksum and the spec fingerprint (stable across builds).
@@ -159,6 +162,46 @@ impl Writer {
                 self.u8(2);
                 self.varint(a as u64);
             }
+        }
+    }
+
+    /// A small (not heavy) value: a tag byte, then its bits.
+    fn small(&mut self, v: &Value) {
+        let id = DMat4::IDENTITY.to_cols_array();
+        match v {
+            Value::Bool(b) => self.u8(if *b { V_TRUE } else { V_FALSE }),
+            Value::Int(i) => {
+                self.u8(V_INT);
+                self.zigzag(*i);
+            }
+            Value::Enum(i) => {
+                self.u8(V_ENUM);
+                self.zigzag(*i);
+            }
+            Value::Float(x) if x.to_bits() == 0 => self.u8(V_FLOAT_ZERO),
+            Value::Float(x) if x.to_bits() == 1f64.to_bits() => self.u8(V_FLOAT_ONE),
+            Value::Float(x) => {
+                self.u8(V_FLOAT);
+                self.f64(*x);
+            }
+            Value::Vec3(v) if same_f64s(&v.to_array(), &[0.0; 3]) => self.u8(V_VEC3_ZERO),
+            Value::Vec3(v) if same_f64s(&v.to_array(), &[1.0; 3]) => self.u8(V_VEC3_ONE),
+            Value::Vec3(v) => {
+                self.u8(V_VEC3);
+                self.f64s(&v.to_array());
+            }
+            Value::Quat(q) if same_f64s(&q.to_array(), &DQuat::IDENTITY.to_array()) => self.u8(V_QUAT_IDENTITY),
+            Value::Quat(q) => {
+                self.u8(V_QUAT);
+                self.f64s(&q.to_array());
+            }
+            Value::Matrix(m) if same_f64s(&m.to_cols_array(), &id) => self.u8(V_MATRIX_IDENTITY),
+            Value::Matrix(m) => {
+                self.u8(V_MATRIX);
+                self.f64s(&m.to_cols_array());
+            }
+            // Heavy values go through the shared table (`V_SHARED`); objects are caches.
+            _ => self.u8(V_OBJECT),
         }
     }
     fn bits(&mut self, bits: &[bool]) {
@@ -340,48 +383,13 @@ impl Program {
             w.shared(v);
         }
         w.varint(self.initial.len() as u64);
-        let id = DMat4::IDENTITY.to_cols_array();
         for (v, sh) in self.initial.iter().zip(&slot_shared) {
             if let Some(i) = sh {
                 w.u8(V_SHARED);
                 w.varint(*i as u64);
                 continue;
             }
-            match v {
-                Value::Bool(b) => w.u8(if *b { V_TRUE } else { V_FALSE }),
-                Value::Int(i) => {
-                    w.u8(V_INT);
-                    w.zigzag(*i);
-                }
-                Value::Enum(i) => {
-                    w.u8(V_ENUM);
-                    w.zigzag(*i);
-                }
-                Value::Float(x) if x.to_bits() == 0 => w.u8(V_FLOAT_ZERO),
-                Value::Float(x) if x.to_bits() == 1f64.to_bits() => w.u8(V_FLOAT_ONE),
-                Value::Float(x) => {
-                    w.u8(V_FLOAT);
-                    w.f64(*x);
-                }
-                Value::Vec3(v) if same_f64s(&v.to_array(), &[0.0; 3]) => w.u8(V_VEC3_ZERO),
-                Value::Vec3(v) if same_f64s(&v.to_array(), &[1.0; 3]) => w.u8(V_VEC3_ONE),
-                Value::Vec3(v) => {
-                    w.u8(V_VEC3);
-                    w.f64s(&v.to_array());
-                }
-                Value::Quat(q) if same_f64s(&q.to_array(), &DQuat::IDENTITY.to_array()) => w.u8(V_QUAT_IDENTITY),
-                Value::Quat(q) => {
-                    w.u8(V_QUAT);
-                    w.f64s(&q.to_array());
-                }
-                Value::Matrix(m) if same_f64s(&m.to_cols_array(), &id) => w.u8(V_MATRIX_IDENTITY),
-                Value::Matrix(m) => {
-                    w.u8(V_MATRIX);
-                    w.f64s(&m.to_cols_array());
-                }
-                // Heavy values went through the shared table above; objects are caches.
-                _ => w.u8(V_OBJECT),
-            }
+            w.small(v);
         }
         w.bits(&self.dynamic_slot);
         w.bits(&self.own_input_slot);
@@ -394,6 +402,21 @@ impl Program {
         w.varint(self.frame_steps.len() as u64);
         for &f in &self.frame_steps {
             w.varint(f as u64);
+        }
+        match &self.guarded {
+            None => w.u8(0),
+            Some(g) => {
+                w.u8(1);
+                w.varint(g.frame_steps.len() as u64);
+                for &f in &g.frame_steps {
+                    w.varint(f as u64);
+                }
+                w.varint(g.guards.len() as u64);
+                for guard in &g.guards {
+                    w.binding(guard.binding);
+                    w.small(&guard.value);
+                }
+            }
         }
         let payload = w.buf;
         let mut out = Vec::with_capacity(HEADER_LEN + payload.len());
@@ -791,6 +814,25 @@ fn decode_payload(payload: &[u8], registry: &Registry) -> Result<Program> {
     for _ in 0..n {
         frame_steps.push(r.u32v("frame step")?);
     }
+    let guarded = match r.u8("guarded schedule flag")? {
+        0 => None,
+        1 => {
+            let n = r.count(1, "guarded frame steps")?;
+            let mut steps = Vec::with_capacity(n);
+            for _ in 0..n {
+                steps.push(r.u32v("guarded frame step")?);
+            }
+            let n = r.count(3, "guards")?;
+            let mut guards = Vec::with_capacity(n);
+            for _ in 0..n {
+                let binding = r.binding()?;
+                let value = r.value(&[])?;
+                guards.push(Guard { binding, value });
+            }
+            Some((steps, guards))
+        }
+        t => return Err(r.fail(&format!("bad guarded schedule flag {t}"))),
+    };
     if r.pos != payload.len() {
         return Err(r.fail("trailing bytes after the program"));
     }
@@ -891,7 +933,29 @@ fn decode_payload(payload: &[u8], registry: &Registry) -> Result<Program> {
     if let Some(&f) = frame_steps.iter().find(|&&f| f as usize >= steps.len()) {
         return Err(err(format!("frame step {f} out of range")));
     }
+    let guarded = match guarded {
+        None => None,
+        Some((guarded_steps, guards)) => {
+            if let Some(&f) = guarded_steps.iter().find(|&&f| f as usize >= steps.len()) {
+                return Err(err(format!("guarded frame step {f} out of range")));
+            }
+            for g in &guards {
+                let reads = match g.binding {
+                    Binding::Slot(s) => slot_ty(s),
+                    Binding::Component(s, k) => {
+                        (k < 3 && slot_ty(s) == Some(AttrType::Vec3)).then_some(AttrType::Float)
+                    }
+                    Binding::Assemble(x) => ((x as usize) < tables.assemblies.len()).then_some(AttrType::Vec3),
+                };
+                if reads != Some(g.value.attr_type()) {
+                    return Err(err("a guard refers to a missing or mistyped slot"));
+                }
+            }
+            Some(GuardedSchedule::new(&steps, guarded_steps, guards))
+        }
+    };
     Ok(Program {
+        guarded,
         frame_schedule: frame_schedule(&steps, &frame_steps),
         steps,
         frame_steps,

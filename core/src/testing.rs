@@ -8,9 +8,9 @@ use glam::{DMat4, DVec3};
 
 use crate::error::{ComputeError, SpecError};
 use crate::kernel::{KernelNode, ScalarOp};
-use crate::node::{ComputeContext, NodeType};
+use crate::node::{ComputeContext, KnownInputs, NodeType};
 use crate::registry::Registry;
-use crate::spec::{Input, MirrorRole, MultiInput, MultiOutput, NodeSpec, Output, Unit};
+use crate::spec::{AttrId, Input, MirrorRole, MultiInput, MultiOutput, NodeSpec, Output, Unit};
 
 /// `add`: `output = input1 + input2` (floats), a [`KernelNode`], so compiled programs run
 /// it without a compute context.
@@ -257,6 +257,56 @@ impl NodeType for TimeSource {
     }
 }
 
+/// `pick`: `output = b` when `select` is true, else `a`; names the other input as unread
+/// when `select` is known (a selector, to test [`NodeType::unread_inputs`]).
+pub struct Pick {
+    spec: NodeSpec,
+    select: Input<bool>,
+    a: Input<f64>,
+    b: Input<f64>,
+    out: Output<f64>,
+}
+
+impl Pick {
+    /// Creates the node type.
+    pub fn new() -> Result<Self, SpecError> {
+        let mut s = NodeSpec::builder("pick");
+        let select = s.input("select", false);
+        let a = s.input("a", 0.0);
+        let b = s.input("b", 0.0);
+        let out = s.output("output", 0.0);
+        Ok(Pick {
+            spec: s.build()?,
+            select,
+            a,
+            b,
+            out,
+        })
+    }
+}
+
+impl NodeType for Pick {
+    fn spec(&self) -> &NodeSpec {
+        &self.spec
+    }
+    fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
+        let v = if ctx.get(self.select) {
+            ctx.get(self.b)
+        } else {
+            ctx.get(self.a)
+        };
+        ctx.set(self.out, v);
+        Ok(())
+    }
+    fn unread_inputs(&self, known: &KnownInputs<'_>) -> Vec<AttrId> {
+        match known.get(self.select) {
+            Some(true) => vec![self.a.id()],
+            Some(false) => vec![self.b.id()],
+            None => Vec::new(),
+        }
+    }
+}
+
 /// `testJoint` / `testTransform`: a small DAG node with Maya-like channels
 /// and mirror roles, for rig-file tests. `matrix = T * JO * R` (column
 /// vectors, rotate order honoured, scale ignored), `worldMatrix =
@@ -403,6 +453,7 @@ pub fn registry() -> Result<Arc<Registry>, SpecError> {
     r.register(VecScale::new()?)?;
     r.register(SumMulti::new()?)?;
     r.register(TimeSource::new()?)?;
+    r.register(Pick::new()?)?;
     r.register(CachedRamp::new()?)?;
     r.register(TestXform::new(true)?)?;
     r.register(TestXform::new(false)?)?;

@@ -1,7 +1,9 @@
 //! `pairBlend`: blends two translate/rotate pairs (FK/IK switches, constraint vs. animation).
 
 use glam::DVec3;
-use sinew_core::{ComputeContext, ComputeError, Input, NodeSpec, NodeType, Output, SpecError, Unit};
+use sinew_core::{
+    AttrId, ComputeContext, ComputeError, Input, KnownInputs, NodeSpec, NodeType, Output, SpecError, Unit,
+};
 
 use super::{finite3, node_type};
 use crate::transform::math::{euler_to_quat, quat_to_euler_closest, slerp_shortest, RotateOrder};
@@ -16,7 +18,10 @@ use crate::transform::math::{euler_to_quat, quat_to_euler_closest, slerp_shortes
 ///   the output has no flips and equals `inRotate1` at weight 0 and
 ///   `inRotate2` at weight 1 up to rounding.
 ///
-/// `weight` is clamped to [0, 1] (Maya's attribute range). Differences from
+/// `weight` is clamped to [0, 1] (Maya's attribute range). At exactly 0 the outputs
+/// are input 1 and at exactly 1 input 2, bit for bit (made finite), without reading the
+/// other pair: a compiled program does not evaluate what feeds it (an FK/IK switch at
+/// FK runs no IK; see [`NodeType::unread_inputs`]). Differences from
 /// Maya: the per-axis `translateXMode`... and `rotateMode` switches are not
 /// modelled (always "blend inputs"). The vec3 children have Maya's names,
 /// with the pair number last: `inTranslateX1`..`inTranslateZ1`,
@@ -91,8 +96,22 @@ impl PairBlend {
     }
 
     fn run(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
-        let w = ctx.get(self.weight);
-        let w = if w.is_nan() { 0.0 } else { w.clamp(0.0, 1.0) };
+        let w = clamp_weight(ctx.get(self.weight));
+        // The end points read one pair only (the contract of `unread`).
+        if w == 0.0 || w == 1.0 {
+            let (t, r) = if w == 0.0 {
+                (self.in_translate1, self.in_rotate1)
+            } else {
+                (self.in_translate2, self.in_rotate2)
+            };
+            if ctx.wants(self.out_translate) {
+                ctx.set(self.out_translate, finite3(ctx.get(t)));
+            }
+            if ctx.wants(self.out_rotate) {
+                ctx.set(self.out_rotate, finite3(ctx.get(r)));
+            }
+            return Ok(());
+        }
         if ctx.wants(self.out_translate) {
             let (a, b) = (ctx.get(self.in_translate1), ctx.get(self.in_translate2));
             ctx.set(self.out_translate, finite3(a + (b - a) * w));
@@ -113,5 +132,23 @@ impl PairBlend {
         }
         Ok(())
     }
+
+    /// The pair a known weight of exactly 0 or 1 leaves unread.
+    fn unread(&self, known: &KnownInputs<'_>) -> Vec<AttrId> {
+        match known.get(self.weight).map(clamp_weight) {
+            Some(0.0) => vec![self.in_translate2.id(), self.in_rotate2.id()],
+            Some(1.0) => vec![self.in_translate1.id(), self.in_rotate1.id()],
+            _ => Vec::new(),
+        }
+    }
 }
-node_type!(PairBlend);
+node_type!(PairBlend, unread);
+
+/// `weight` as the blend uses it: NaN counts as 0, others are clamped to [0, 1].
+fn clamp_weight(w: f64) -> f64 {
+    if w.is_nan() {
+        0.0
+    } else {
+        w.clamp(0.0, 1.0)
+    }
+}

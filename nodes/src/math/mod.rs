@@ -25,9 +25,13 @@ pub mod vector;
 mod tests;
 #[cfg(test)]
 mod tests_more;
+#[cfg(test)]
+mod tests_select;
 
 /// Implements [`sinew_core::NodeType`] for a struct with a `spec` field and a
 /// `run(&self, ctx)` method.
+/// With `unread`, the struct's `unread(&self, known)` method answers
+/// [`NodeType::unread_inputs`](sinew_core::NodeType::unread_inputs).
 macro_rules! node_type {
     ($t:ty) => {
         impl NodeType for $t {
@@ -36,6 +40,19 @@ macro_rules! node_type {
             }
             fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
                 self.run(ctx)
+            }
+        }
+    };
+    ($t:ty, unread) => {
+        impl NodeType for $t {
+            fn spec(&self) -> &NodeSpec {
+                &self.spec
+            }
+            fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
+                self.run(ctx)
+            }
+            fn unread_inputs(&self, known: &sinew_core::KnownInputs<'_>) -> Vec<sinew_core::AttrId> {
+                self.unread(known)
             }
         }
     };

@@ -1,7 +1,7 @@
 //! Choosing, blending and range nodes: `condition`, `blendColors`, `clamp`, `setRange`.
 
 use glam::DVec3;
-use sinew_core::{ComputeContext, ComputeError, Input, NodeSpec, NodeType, Output, SpecError};
+use sinew_core::{AttrId, ComputeContext, ComputeError, Input, KnownInputs, NodeSpec, NodeType, Output, SpecError};
 
 use super::{finite, finite3, node_type};
 
@@ -60,15 +60,7 @@ impl Condition {
     }
 
     fn run(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
-        let (a, b) = (ctx.get(self.first), ctx.get(self.second));
-        let holds = match ctx.get(self.operation) {
-            1 => a != b,
-            2 => a > b,
-            3 => a >= b,
-            4 => a < b,
-            5 => a <= b,
-            _ => a == b,
-        };
+        let holds = holds(ctx.get(self.operation), ctx.get(self.first), ctx.get(self.second));
         let v = if holds {
             ctx.get(self.if_true)
         } else {
@@ -77,13 +69,41 @@ impl Condition {
         ctx.set(self.out, v);
         Ok(())
     }
+
+    /// The colour that known terms and operation do not choose.
+    fn unread(&self, known: &KnownInputs<'_>) -> Vec<AttrId> {
+        let (Some(op), Some(a), Some(b)) = (known.get(self.operation), known.get(self.first), known.get(self.second))
+        else {
+            return Vec::new();
+        };
+        vec![if holds(op, a, b) {
+            self.if_false.id()
+        } else {
+            self.if_true.id()
+        }]
+    }
 }
-node_type!(Condition);
+node_type!(Condition, unread);
+
+/// Whether `a (operation) b` holds; unknown operations compare for equality.
+fn holds(operation: i64, a: f64, b: f64) -> bool {
+    match operation {
+        1 => a != b,
+        2 => a > b,
+        3 => a >= b,
+        4 => a < b,
+        5 => a <= b,
+        _ => a == b,
+    }
+}
 
 /// Maya's `blendColors`: `output = color1 * blender + color2 * (1 - blender)`.
 ///
 /// `blender` is not clamped (values outside [0, 1] extrapolate, as in Maya
-/// when the attribute is driven). Overflow saturates at `±f64::MAX`.
+/// when the attribute is driven). Overflow saturates at `±f64::MAX`. At exactly
+/// 1 the output is `color1` and at exactly 0 `color2`, bit for bit (made finite),
+/// without reading the other colour: a compiled program does not evaluate what
+/// feeds it (see [`NodeType::unread_inputs`]).
 pub struct BlendColors {
     spec: NodeSpec,
     color1: Input<DVec3>,
@@ -116,12 +136,28 @@ impl BlendColors {
 
     fn run(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
         let w = ctx.get(self.blender);
-        let v = ctx.get(self.color1) * w + ctx.get(self.color2) * (1.0 - w);
+        // The end points read one colour only (the contract of `unread`).
+        let v = if w == 1.0 {
+            ctx.get(self.color1)
+        } else if w == 0.0 {
+            ctx.get(self.color2)
+        } else {
+            ctx.get(self.color1) * w + ctx.get(self.color2) * (1.0 - w)
+        };
         ctx.set(self.output, finite3(v));
         Ok(())
     }
+
+    /// The colour a known blender of exactly 0 or 1 leaves unread.
+    fn unread(&self, known: &KnownInputs<'_>) -> Vec<AttrId> {
+        match known.get(self.blender) {
+            Some(1.0) => vec![self.color2.id()],
+            Some(0.0) => vec![self.color1.id()],
+            _ => Vec::new(),
+        }
+    }
 }
-node_type!(BlendColors);
+node_type!(BlendColors, unread);
 
 /// Maya's `clamp`: per component, `output = min` if `input < min`, else
 /// `max` if `input > max`, else `input`.
