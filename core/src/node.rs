@@ -250,6 +250,32 @@ impl<'a> ComputeContext<'a> {
     /// Reads an output of another compute group of this node that the
     /// current group declared it depends on (`affects(&[that_output], ...)`),
     /// e.g. a precomputed curve in an `Object` output.
+    /// Calls `f` with input `h`'s value by reference when it lives whole in a slot (no
+    /// copy), else with a copy: for large values (matrices) on hot paths.
+    #[inline]
+    pub fn with_ref<T: AttrValue, R>(&self, h: Input<T>, f: impl FnOnce(&T) -> R) -> R {
+        match self.slot_ref::<T>(h.id()) {
+            Some(v) => f(v),
+            None => f(&self.get(h)),
+        }
+    }
+
+    /// [`ComputeContext::with_ref`] for an output of another group of this node.
+    #[inline]
+    pub fn with_output_ref<T: AttrValue, R>(&self, h: Output<T>, f: impl FnOnce(&T) -> R) -> R {
+        match self.slot_ref::<T>(h.id()) {
+            Some(v) => f(v),
+            None => f(&self.get_output(h)),
+        }
+    }
+
+    /// The value of a compiled single attribute bound to a whole slot, by reference.
+    #[inline(always)]
+    fn slot_ref<T: AttrValue>(&self, id: AttrId) -> Option<&T> {
+        let b = self.attrs.get(id.index())?;
+        T::as_ref(self.slots.get(b.slot as usize)?)
+    }
+
     #[inline]
     pub fn get_output<T: AttrValue>(&self, h: Output<T>) -> T {
         self.read_with(h.id(), 0).unwrap_or_else(|| self.fallback(h.id()))

@@ -399,6 +399,13 @@ pub trait AttrValue: Sized + Default + 'static {
     fn write_into(self, slot: &mut Value) {
         *slot = self.into_value();
     }
+    /// The value inside `v` by reference, or `None` when `v` holds another type (or a
+    /// type, such as an enum index, that is converted on reading).
+    #[inline]
+    fn as_ref(v: &Value) -> Option<&Self> {
+        let _ = v;
+        None
+    }
 }
 
 macro_rules! attr_value {
@@ -409,6 +416,13 @@ macro_rules! attr_value {
             fn from_value(v: &Value) -> Option<Self> {
                 match v {
                     Value::$var(x) => Some(x.clone()),
+                    _ => None,
+                }
+            }
+            #[inline]
+            fn as_ref(v: &Value) -> Option<&Self> {
+                match v {
+                    Value::$var(x) => Some(x),
                     _ => None,
                 }
             }

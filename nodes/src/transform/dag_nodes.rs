@@ -206,8 +206,18 @@ impl Common {
             ctx.set(self.inverse_matrix, inverse_or_identity(m));
         }
         if ctx.wants(self.world_matrix) {
-            let m = ctx.get_output(self.matrix);
-            let w = mul_affine(&self.parent_world(ctx), &m);
+            // By reference: three matrices are read and one written on every frame.
+            let w = ctx.with_ref(self.parent_matrix, |parent| {
+                ctx.with_ref(self.offset_parent_matrix, |offset| {
+                    ctx.with_output_ref(self.matrix, |m| {
+                        if is_identity_bits(offset) {
+                            mul_affine(parent, m)
+                        } else {
+                            mul_affine(&mul_affine(parent, offset), m)
+                        }
+                    })
+                })
+            });
             ctx.set(self.world_matrix, w);
         }
         if ctx.wants(self.world_inverse_matrix) {
@@ -220,7 +230,12 @@ impl Common {
 /// Whether `m` is bit for bit [`DMat4::IDENTITY`] (so `-0.0` entries count as different).
 #[inline]
 fn is_identity_bits(m: &DMat4) -> bool {
-    m.to_cols_array().map(f64::to_bits) == DMat4::IDENTITY.to_cols_array().map(f64::to_bits)
+    let (a, id) = (m.to_cols_array(), DMat4::IDENTITY.to_cols_array());
+    // One pass of xor/or instead of sixteen compare-and-branch steps.
+    a.iter()
+        .zip(&id)
+        .fold(0, |diff, (x, y)| diff | (x.to_bits() ^ y.to_bits()))
+        == 0
 }
 
 /// Maya's `transform` node: `matrix` is
