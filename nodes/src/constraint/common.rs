@@ -5,14 +5,51 @@
 //! Everything here is pure: it reads through a [`ComputeContext`] and
 //! returns values; the node files decide what to write.
 
+use std::cell::RefCell;
+
 use glam::{DMat3, DMat4, DQuat, DVec3};
 use sinew_core::{AttrId, ComputeContext, Input, MultiInput, SpecBuilder, Unit};
 
+use crate::ik::EulerMemo;
 use crate::transform::euler::sanitize_quat;
 use crate::transform::math::{
-    euler_to_quat, orthonormalize, quat_blend_weighted, rotate_for_orientation, slerp_shortest,
+    euler_to_quat, orthonormalize, quat_blend_weighted, rotate_for_orientation_quats, slerp_shortest,
     to_translate_rotate_scale, RotateOrder,
 };
+
+thread_local! {
+    /// This thread's memo of the constraints' angle conversions (see [`memo_quat`]).
+    static EULER_MEMO: RefCell<EulerMemo> = RefCell::new(EulerMemo::default());
+}
+
+/// `euler_to_quat(rad(degrees), order)`, through this thread's [`EulerMemo`].
+///
+/// A constraint's jointOrient, rotateAxis and offset rarely change from frame to frame; a hit
+/// returns the bits the same conversion gave before, so results do not depend on history. (The
+/// memo converts with `degrees * (PI / 180)`, which is what `to_radians` computes, bit for bit.)
+pub(crate) fn memo_quat(degrees: DVec3, order: RotateOrder) -> DQuat {
+    EULER_MEMO.with(|m| match m.try_borrow_mut() {
+        Ok(mut m) => m.quat(degrees, order),
+        Err(_) => euler_to_quat(rad(degrees), order),
+    })
+}
+
+/// The `rotate` (degrees, `order`) giving the parent-space rotation `local` to a node with
+/// rotateAxis `rotate_axis_deg` and jointOrient `joint_orient_deg` (degrees), the euler triple
+/// closest to `near_deg`: `deg(rotate_for_orientation(local, order, rad(rotate_axis_deg),
+/// rad(joint_orient_deg), Some(rad(near_deg))))`, with the two constant conversions memoized
+/// ([`memo_quat`]).
+pub(crate) fn rotate_for_orientation_deg(
+    local: DQuat,
+    order: RotateOrder,
+    rotate_axis_deg: DVec3,
+    joint_orient_deg: DVec3,
+    near_deg: DVec3,
+) -> DVec3 {
+    let jo = memo_quat(joint_orient_deg, RotateOrder::Xyz);
+    let ra = memo_quat(rotate_axis_deg, RotateOrder::Xyz);
+    deg(rotate_for_orientation_quats(local, order, ra, jo, Some(rad(near_deg))))
+}
 
 /// Maya's rotate orders, in enum order.
 pub const ROTATE_ORDERS: [&str; 6] = ["xyz", "yzx", "zxy", "xzy", "yxz", "zyx"];
@@ -227,14 +264,13 @@ impl ChildRotation {
     /// `near_deg` (the rest rotation).
     pub fn rotate_deg(&self, ctx: &ComputeContext<'_>, local: DQuat, near_deg: DVec3) -> DVec3 {
         let order = RotateOrder::from_index(ctx.get(self.order)).unwrap_or_default();
-        let r = rotate_for_orientation(
+        rotate_for_orientation_deg(
             local,
             order,
-            rad(ctx.get(self.rotate_axis)),
-            rad(ctx.get(self.joint_orient)),
-            Some(rad(near_deg)),
-        );
-        deg(r)
+            ctx.get(self.rotate_axis),
+            ctx.get(self.joint_orient),
+            near_deg,
+        )
     }
 }
 
@@ -328,9 +364,9 @@ impl Channel {
     }
 }
 
-/// `euler_to_quat` of an xyz offset in degrees (orient/aim `offset`).
+/// `euler_to_quat` of an xyz offset in degrees (orient/aim `offset`), memoized ([`memo_quat`]).
 pub(crate) fn offset_quat(offset_deg: DVec3) -> DQuat {
-    euler_to_quat(rad(offset_deg), RotateOrder::Xyz)
+    memo_quat(offset_deg, RotateOrder::Xyz)
 }
 
 /// Inverse of a parentInverseMatrix (the parent's world matrix), or identity

@@ -7,9 +7,11 @@ use glam::{DMat4, DVec3};
 use proptest::prelude::*;
 use sinew_core::{Graph, Value};
 
-use super::common::rad;
+use super::common::{rad, rotate_for_orientation_deg};
 use super::tests::{assert_lazy_eq_compiled, child_world, get3, graph, m4, rot, set, v3};
-use crate::transform::math::{compose, to_translate_rotate_scale, RotateOrder, TransformParams};
+use crate::transform::math::{
+    compose, euler_to_quat, rotate_for_orientation, to_translate_rotate_scale, RotateOrder, TransformParams,
+};
 
 fn vec3(lo: f64, hi: f64) -> impl Strategy<Value = DVec3> {
     (lo..hi, lo..hi, lo..hi).prop_map(|(x, y, z)| DVec3::new(x, y, z))
@@ -216,5 +218,34 @@ proptest! {
             "pc.constraintTranslate", "pc.constraintRotate", "pt.constraintTranslate", "oc.constraintRotate",
             "ac.constraintRotate", "sc.constraintScale", "pv.constraintTranslate",
         ]);
+    }
+}
+
+/// Angles for the memo test: mostly random, some exactly zero (either sign) or whole quarter turns.
+fn angles() -> impl Strategy<Value = DVec3> {
+    prop_oneof![
+        vec3(-400.0, 400.0),
+        Just(DVec3::ZERO),
+        Just(DVec3::new(-0.0, 0.0, -0.0)),
+        Just(DVec3::new(180.0, 0.0, 90.0)),
+    ]
+}
+
+proptest! {
+    /// The constraints' memoized conversion gives the bits of `rotate_for_orientation`, on the
+    /// first call for a key and on every later one (the memo is per thread and shared).
+    #[test]
+    fn memoized_rotate_deg_is_rotate_for_orientation(
+        q in vec3(-3.0, 3.0), o in order(), ra in angles(), jo in angles(), near in vec3(-400.0, 400.0),
+    ) {
+        let local = glam::DQuat::from_scaled_axis(q);
+        let direct = super::common::deg(rotate_for_orientation(local, o, rad(ra), rad(jo), Some(rad(near))));
+        for _ in 0..2 {
+            let memo = rotate_for_orientation_deg(local, o, ra, jo, near);
+            prop_assert_eq!(memo.to_array().map(f64::to_bits), direct.to_array().map(f64::to_bits));
+            let offset = super::common::offset_quat(ra);
+            let off_direct = euler_to_quat(rad(ra), RotateOrder::Xyz);
+            prop_assert_eq!(offset.to_array().map(f64::to_bits), off_direct.to_array().map(f64::to_bits));
+        }
     }
 }

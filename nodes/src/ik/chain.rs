@@ -271,6 +271,12 @@ impl Prepared {
     /// [`Self::new`] into this value's buffers (no allocation once they are large enough).
     /// On error the contents are unspecified.
     pub fn refill(&mut self, chain: &Chain) -> Result<(), IkError> {
+        self.refill_parent(chain)?;
+        self.refill_joints(chain)
+    }
+
+    /// The parent part of [`Self::refill`] (checks and inverts `parent_world`; no joints yet).
+    pub fn refill_parent(&mut self, chain: &Chain) -> Result<(), IkError> {
         self.joints.clear();
         self.rest_rot.clear();
         if !chain.parent_world.is_finite() {
@@ -281,6 +287,14 @@ impl Prepared {
         if !det.is_finite() || det.abs() < 1e-12 || !to_chain.is_finite() {
             return Err(IkError::SingularParent);
         }
+        self.to_world = chain.parent_world;
+        self.to_chain = to_chain;
+        Ok(())
+    }
+
+    /// The joints part of [`Self::refill`], after [`Self::refill_parent`]: a pure function of
+    /// `chain.joints` (see `RestMemo`).
+    pub fn refill_joints(&mut self, chain: &Chain) -> Result<(), IkError> {
         for (i, j) in chain.joints.iter().enumerate() {
             if !j.translate.is_finite() {
                 return Err(IkError::NonFinite("joint translate"));
@@ -294,8 +308,6 @@ impl Prepared {
             });
         }
         self.rest_rot.extend(self.joints.iter().map(|j| j.preferred));
-        self.to_world = chain.parent_world;
-        self.to_chain = to_chain;
         Ok(())
     }
 
@@ -386,27 +398,29 @@ impl Prepared {
         twist: Option<&[f64]>,
     ) -> Vec<DQuat> {
         let mut out = Vec::with_capacity(self.joints.len());
-        self.rotations_from_positions_into(targets, root_pre, fallback_axis, twist, &mut out);
+        self.rotations_from_positions_into(targets, root_pre, fallback_axis, twist, usize::MAX, &mut out);
         out
     }
 
-    /// [`Self::rotations_from_positions`] into `out` (cleared first).
+    /// [`Self::rotations_from_positions`] into `out` (cleared first), for the first `solved`
+    /// joints only: the others keep their rest rotation (no joint's result depends on later ones).
     pub fn rotations_from_positions_into(
         &self,
         targets: &[DVec3],
         root_pre: DQuat,
         fallback_axis: DVec3,
         twist: Option<&[f64]>,
+        solved: usize,
         out: &mut Vec<DQuat>,
     ) {
         out.clear();
         out.extend_from_slice(&self.rest_rot);
         let (mut p, mut qp) = (DVec3::ZERO, DQuat::IDENTITY);
         let mut axis = DVec3::ZERO;
-        let n = self.joints.len();
+        let n = self.joints.len().min(solved);
         // Work whose result cannot be used is skipped (same bits): the position and carried
         // frame past the last aimed joint, and the bone axis when there is no twist.
-        for (i, j) in self.joints.iter().enumerate() {
+        for (i, j) in self.joints.iter().enumerate().take(n) {
             let frame = (qp * j.joint_orient).normalize();
             let mut delta = if i == 0 { root_pre } else { DQuat::IDENTITY };
             if let (Some(child), Some(&target)) = (self.joints.get(i + 1), targets.get(i + 1)) {

@@ -116,6 +116,7 @@ mod node_scratch;
 pub mod nodes_rp;
 pub mod nodes_sc;
 pub mod nodes_spline;
+mod rest_memo;
 pub mod snap;
 pub mod soft;
 pub mod spline;
@@ -125,6 +126,7 @@ pub use node_chain::{
     status_code, ROTATE_ORDER_NAMES, STATUS_INVALID, STATUS_NAMES, STATUS_NOT_CONVERGED, STATUS_REACHED,
     STATUS_UNREACHABLE,
 };
+pub(crate) use node_scratch::EulerMemo;
 
 #[cfg(test)]
 mod tests;

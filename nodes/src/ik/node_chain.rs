@@ -94,16 +94,23 @@ impl ChainRead {
         if !self.ik_blend.is_finite() {
             return Some("ikBlend");
         }
+        // Per joint in attribute order (checked one by one: building a table of pairs per joint
+        // cost more than the checks).
         for j in &self.joints {
-            let checks = [
-                (j.translate, "jointTranslate"),
-                (j.orient, "jointOrient"),
-                (j.rotate_axis, "jointRotateAxis"),
-                (j.preferred, "preferredAngle"),
-                (j.fk, "fkRotate"),
-            ];
-            if let Some((_, name)) = checks.iter().find(|(v, _)| !v.is_finite()) {
-                return Some(name);
+            if !j.translate.is_finite() {
+                return Some("jointTranslate");
+            }
+            if !j.orient.is_finite() {
+                return Some("jointOrient");
+            }
+            if !j.rotate_axis.is_finite() {
+                return Some("jointRotateAxis");
+            }
+            if !j.preferred.is_finite() {
+                return Some("preferredAngle");
+            }
+            if !j.fk.is_finite() {
+                return Some("fkRotate");
             }
         }
         None
@@ -219,12 +226,19 @@ impl ChainInputs {
                  set jointTranslate[0..{min_joints}] to the chain's rest local translations"
             )));
         }
+        // Element counts of the other multis: one with no element (often `jointRotateAxis`,
+        // `preferredAngle` and `fkRotate`) is not looked up per joint.
+        let order_len = ctx.multi_len(self.joint_rotate_order);
+        let orient_len = ctx.multi_len(self.joint_orient);
+        let axis_len = ctx.multi_len(self.joint_rotate_axis);
+        let preferred_len = ctx.multi_len(self.preferred_angle);
+        let fk_len = ctx.multi_len(self.fk_rotate);
         out.joints.clear();
         for k in 0..n {
             let Some((index, translate)) = ctx.multi_at(self.joint_translate, k) else {
                 break;
             };
-            let order_index = elem(ctx, self.joint_rotate_order, k, index).unwrap_or(0);
+            let order_index = elem(ctx, self.joint_rotate_order, order_len, k, index).unwrap_or(0);
             let order = RotateOrder::from_index(order_index).ok_or_else(|| {
                 ComputeError::new(format!(
                     "jointRotateOrder[{index}] is {order_index}; use 0..5 (xyz, yzx, zxy, xzy, yxz, zyx)"
@@ -233,11 +247,11 @@ impl ChainInputs {
             out.joints.push(JointData {
                 index,
                 translate,
-                orient: elem(ctx, self.joint_orient, k, index).unwrap_or(DVec3::ZERO),
-                rotate_axis: elem(ctx, self.joint_rotate_axis, k, index).unwrap_or(DVec3::ZERO),
+                orient: elem(ctx, self.joint_orient, orient_len, k, index).unwrap_or(DVec3::ZERO),
+                rotate_axis: elem(ctx, self.joint_rotate_axis, axis_len, k, index).unwrap_or(DVec3::ZERO),
                 order,
-                preferred: elem(ctx, self.preferred_angle, k, index).unwrap_or(DVec3::ZERO),
-                fk: elem(ctx, self.fk_rotate, k, index).unwrap_or(DVec3::ZERO),
+                preferred: elem(ctx, self.preferred_angle, preferred_len, k, index).unwrap_or(DVec3::ZERO),
+                fk: elem(ctx, self.fk_rotate, fk_len, k, index).unwrap_or(DVec3::ZERO),
             });
         }
         out.parent = ctx.get(self.start_parent_matrix);
@@ -246,10 +260,14 @@ impl ChainInputs {
     }
 }
 
-/// The element with logical index `index` of multi input `h`, looked up at position `k`
-/// first (the multis of a chain are usually aligned) and by search otherwise. Same value
-/// as `ctx.get_at(h, index)`: the chain multis' defaults are the values callers fall back to.
-fn elem<T: AttrValue>(ctx: &ComputeContext<'_>, h: MultiInput<T>, k: usize, index: u32) -> Option<T> {
+/// The element with logical index `index` of multi input `h` (which has `len` elements),
+/// looked up at position `k` first (the multis of a chain are usually aligned) and by search
+/// otherwise. Same value as `ctx.get_at(h, index)`: the chain multis' defaults are the values
+/// callers fall back to. With no element at all (`len` 0) there is nothing to look up.
+fn elem<T: AttrValue>(ctx: &ComputeContext<'_>, h: MultiInput<T>, len: usize, k: usize, index: u32) -> Option<T> {
+    if len == 0 {
+        return None;
+    }
     match ctx.multi_at(h, k) {
         Some((i, v)) if i == index => Some(v),
         _ => ctx.get_at(h, index),

@@ -32,8 +32,9 @@ pub(super) struct Solvers {
 }
 
 /// Per-thread buffers of the IK node computes. Every compute refills what it uses, so
-/// nothing carries over from one compute to the next; the only thing kept is
-/// [`EulerMemo`], a cache of a pure function (results cannot depend on history).
+/// nothing carries over from one compute to the next; the only things kept are caches of
+/// pure functions ([`EulerMemo`] and the solvers' `RestMemo`), so results cannot depend on
+/// history.
 #[derive(Debug)]
 pub(super) struct NodeScratch {
     /// The chain inputs.
@@ -87,6 +88,15 @@ impl Needed {
     pub(super) fn has(self, i: usize) -> bool {
         i >= 64 || (self.0 >> i) & 1 == 1
     }
+
+    /// Of `n` joints, how many leading ones hold every needed joint (one past the last needed).
+    pub(super) fn prefix(self, n: usize) -> usize {
+        if n > 64 {
+            return n;
+        }
+        let bits = if n == 64 { self.0 } else { self.0 & ((1u64 << n) - 1) };
+        64 - bits.leading_zeros() as usize
+    }
 }
 
 /// Slots of [`EulerMemo`] (a power of two).
@@ -107,9 +117,10 @@ struct MemoEntry {
 /// frame, and converting them costs trigonometry on every compute. A hit returns the value
 /// the same conversion produced before, so results are bit-identical to converting directly
 /// and do not depend on what was evaluated earlier. Zero angles skip the memo (the
-/// conversion is then trivial).
+/// conversion is then trivial). The constraints keep one too (their jointOrient, rotateAxis and
+/// offset conversions).
 #[derive(Debug)]
-pub(super) struct EulerMemo {
+pub(crate) struct EulerMemo {
     slots: Vec<Option<MemoEntry>>,
 }
 

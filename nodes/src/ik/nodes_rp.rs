@@ -6,9 +6,9 @@ use sinew_core::{ComputeContext, ComputeError, Input, NodeSpec, NodeType, SpecBu
 use super::chain::{Chain, IkError, IkSolution};
 use super::iterative::IterParams;
 use super::node_chain::{ChainInputs, ChainOutputs, ErrorKind, ErrorValue};
-use super::node_scratch::{with_node_scratch, NodeScratch, Solvers};
+use super::node_scratch::{with_node_scratch, Needed, NodeScratch, Solvers};
 use super::soft::ReachParams;
-use super::two_bone::{solve_rotate_plane_into, RpParams};
+use super::two_bone::{solve_rotate_plane_into, RpParams, RpWanted};
 
 /// Largest accepted `maxIterations` (bigger values are clamped to it).
 pub const MAX_ITERATIONS_CAP: i64 = 100_000;
@@ -114,14 +114,15 @@ impl GoalInputs {
 ///
 /// Shared by `ikRP` and `ikSC`: NaN/inf (which can only arrive through connections)
 /// gives the rest pose with status 3 instead of reaching the solver. `ns.read` holds the
-/// chain inputs; `solve` writes its solution into the given buffer.
+/// chain inputs; `solve` writes its solution into the given buffer (the rotations of the
+/// joints the [`Needed`] set names are all that is read of them).
 pub(super) fn solve_and_write(
     ctx: &mut ComputeContext<'_>,
     outputs: &ChainOutputs,
     ns: &mut NodeScratch,
     goal: &GoalRead,
     extra_non_finite: Option<&'static str>,
-    solve: impl FnOnce(&Chain, &mut Solvers, &mut IkSolution),
+    solve: impl FnOnce(&Chain, &mut Solvers, Needed, &mut IkSolution),
 ) {
     let NodeScratch {
         read,
@@ -133,11 +134,11 @@ pub(super) fn solve_and_write(
     } = ns;
     read.chain_into(chain, euler);
     let bad = read.non_finite().or(goal.non_finite).or(extra_non_finite);
+    let needed = outputs.rotate_needed(ctx, read);
     match bad {
         Some(name) => *sol = IkSolution::invalid(chain, IkError::NonFinite(name)),
-        None => solve(chain, solvers, sol),
+        None => solve(chain, solvers, needed, sol),
     }
-    let needed = outputs.rotate_needed(ctx, read);
     pose.blend_into(read, sol, None, needed);
     outputs.write(ctx, read, pose, ErrorValue::Goal(goal.goal));
 }
@@ -223,13 +224,14 @@ impl IkRp {
         // The node's `error` is measured from `endEffector` (another compute group), so the
         // solver skips its own error. Three joints: `solve_two_bone`, which is the
         // rotate-plane solve with default iteration settings.
-        solve_and_write(ctx, &self.outputs, ns, &goal, extra, |chain, solvers, out| {
+        solve_and_write(ctx, &self.outputs, ns, &goal, extra, |chain, solvers, needed, out| {
             let iter = if chain.joints.len() == 3 {
                 IterParams::default()
             } else {
                 goal.iter
             };
-            solve_rotate_plane_into(chain, goal.goal, &rp, &goal.reach, &iter, &mut solvers.rp, out, false);
+            let wanted = RpWanted::Pose(needed);
+            solve_rotate_plane_into(chain, goal.goal, &rp, &goal.reach, &iter, &mut solvers.rp, out, wanted);
         });
         Ok(())
     }

@@ -71,7 +71,7 @@ impl IkSc {
                 )))
             }
         };
-        solve_and_write(ctx, &self.outputs, ns, &goal, None, |chain, _, out| {
+        solve_and_write(ctx, &self.outputs, ns, &goal, None, |chain, _, _, out| {
             *out = solve_sc(chain, goal.goal, &goal.iter, &goal.reach);
         });
         Ok(())

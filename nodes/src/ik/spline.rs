@@ -38,6 +38,7 @@ use glam::{DQuat, DVec3};
 
 use super::chain::{Chain, IkError, IkSolution, IkStatus, Prepared, EPS};
 pub use super::curve::{ArcLengthTable, BSpline, Curve, CurveForm};
+use super::rest_memo::RestMemo;
 
 /// Spline IK settings (ikHandle offset, roll, twist and stretch).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -95,13 +96,15 @@ pub fn solve_spline(chain: &Chain, curve: &Curve, params: &SplineParams) -> Spli
     }
 }
 
-/// Reusable buffers of [`solve_spline_into`] (refilled on every call: they carry no state).
+/// Reusable buffers of [`solve_spline_into`] (refilled on every call; what is kept is a memo of a pure
+/// function, so nothing carries over into results).
 #[derive(Debug)]
 pub(super) struct SplineScratch {
     prep: Prepared,
+    /// The chains' rest data, the one thing kept from call to call (a memo of a pure function).
+    rest: RestMemo,
     spline: BSpline,
     table: ArcLengthTable,
-    lengths: Vec<f64>,
     pos: Vec<DVec3>,
     twist: Vec<f64>,
     /// Per joint the curve parameter it sits at (`SplineSolution::curve_params`).
@@ -112,9 +115,9 @@ impl Default for SplineScratch {
     fn default() -> Self {
         SplineScratch {
             prep: Prepared::default(),
+            rest: RestMemo::default(),
             spline: BSpline::empty(),
             table: ArcLengthTable::empty(),
-            lengths: Vec::new(),
             pos: Vec::new(),
             twist: Vec::new(),
             cparams: Vec::new(),
@@ -134,9 +137,9 @@ pub(super) fn solve_spline_into(
 ) -> (DVec3, f64) {
     let SplineScratch {
         prep,
+        rest,
         spline,
         table,
-        lengths,
         pos,
         twist,
         cparams,
@@ -147,9 +150,10 @@ pub(super) fn solve_spline_into(
         cparams.resize(chain.joints.len(), None);
         (chain.joints.first().map_or(DVec3::ZERO, |j| j.translate), 0.0)
     };
-    if let Err(e) = prep.refill(chain) {
-        return fail(e);
-    }
+    let rest = match rest.refill(prep, chain) {
+        Ok(rest) => rest,
+        Err(e) => return fail(e),
+    };
     let finite = [params.offset, params.roll, params.twist].iter().all(|x| x.is_finite());
     if !finite || params.max_stretch.is_nan() {
         return fail(IkError::NonFinite("spline parameters"));
@@ -172,7 +176,7 @@ pub(super) fn solve_spline_into(
     if total.is_nan() || total <= EPS {
         return fail(IkError::Curve("the curve has zero length".into()));
     }
-    prep.bone_lengths_into(lengths);
+    let lengths = &rest.lengths;
     let chain_len: f64 = lengths.iter().sum();
     let start_s = if spline.is_periodic() {
         params.offset.rem_euclid(total)
@@ -250,7 +254,7 @@ pub(super) fn solve_spline_into(
     twist.clear();
     twist.resize(n, params.twist / (n - 1) as f64);
     twist[0] = params.roll;
-    prep.rotations_from_positions_into(pos, DQuat::IDENTITY, DVec3::ZERO, Some(twist), &mut out.rotations);
+    prep.rotations_from_positions_into(pos, DQuat::IDENTITY, DVec3::ZERO, Some(twist), n, &mut out.rotations);
     out.status = if overrun > 0.0 {
         IkStatus::Unreachable
     } else {

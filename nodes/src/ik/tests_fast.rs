@@ -10,11 +10,11 @@ use super::chain::{Chain, ChainJoint, IkSolution};
 use super::curve::{ArcLengthTable, BSpline, Curve, CurveForm};
 use super::iterative::IterParams;
 use super::node_chain::rad;
-use super::node_scratch::EulerMemo;
+use super::node_scratch::{EulerMemo, Needed};
 use super::soft::ReachParams;
 use super::spline::{solve_spline, solve_spline_into, SplineParams, SplineScratch};
 use super::tests_nodes::{add_chain, graph, set};
-use super::two_bone::{solve_rotate_plane, solve_rotate_plane_into, RpParams, RpScratch};
+use super::two_bone::{solve_rotate_plane, solve_rotate_plane_into, RpParams, RpScratch, RpWanted};
 use crate::transform::math::{euler_to_quat, RotateOrder};
 
 /// A small deterministic generator (no test depends on a particular sequence).
@@ -88,12 +88,80 @@ fn reused_rotate_plane_buffers_give_the_public_results() {
         let iter = IterParams::default();
         let fresh = solve_rotate_plane(&chain, goal, &rp, &reach, &iter);
         let with_error = case % 2 == 1;
-        solve_rotate_plane_into(&chain, goal, &rp, &reach, &iter, &mut scratch, &mut out, with_error);
+        let wanted = if with_error {
+            RpWanted::All
+        } else {
+            RpWanted::Pose(Needed::ALL)
+        };
+        solve_rotate_plane_into(&chain, goal, &rp, &reach, &iter, &mut scratch, &mut out, wanted);
         assert!(same_solution(&fresh, &out, with_error), "case {case}");
         if !with_error {
             assert!(out.error.is_nan());
         }
+        // Only some joints read: the rotations up to the last of them are the same bits.
+        let needed = Needed(0b101 >> (case % 3));
+        let solved = needed.prefix(chain.joints.len());
+        solve_rotate_plane_into(
+            &chain,
+            goal,
+            &rp,
+            &reach,
+            &iter,
+            &mut scratch,
+            &mut out,
+            RpWanted::Pose(needed),
+        );
+        assert!(
+            same_quats(&fresh.rotations[..solved], &out.rotations[..solved]),
+            "case {case}"
+        );
+        assert_eq!(
+            (out.status.clone(), out.rotations.len()),
+            (fresh.status.clone(), fresh.rotations.len())
+        );
     }
+}
+
+#[test]
+fn rest_memo_hits_give_the_public_results() {
+    // Twelve joint lists (more than the memo keeps, so entries are replaced), among them two
+    // that differ only in the sign of a zero and one that is invalid, solved in turn under
+    // changing parents and goals with one scratch: every solve gives fresh bits.
+    let mut rng = Lcg(13);
+    let mut chains: Vec<Chain> = (0..10).map(|i| random_chain(&mut rng, 2 + i % 4)).collect();
+    let mut signed = chains[0].clone();
+    signed.joints[0].translate.y = 0.0;
+    chains[0].joints[0].translate.y = -0.0;
+    chains.push(signed);
+    let mut invalid = chains[1].clone();
+    invalid.joints[0].joint_orient = DQuat::from_xyzw(0.0, 0.0, 0.0, 0.0);
+    chains.push(invalid);
+    let (mut scratch, mut out) = (RpScratch::default(), IkSolution::empty());
+    let (rp, iter) = (RpParams::default(), IterParams::default());
+    let reach = ReachParams {
+        stretch: true,
+        ..ReachParams::default()
+    };
+    for round in 0..3 {
+        for (i, chain) in chains.iter().enumerate() {
+            let mut chain = chain.clone();
+            chain.parent_world = DMat4::from_rotation_translation(rng.q(), rng.v(2.0));
+            let goal = rng.v(5.0);
+            let fresh = solve_rotate_plane(&chain, goal, &rp, &reach, &iter);
+            solve_rotate_plane_into(&chain, goal, &rp, &reach, &iter, &mut scratch, &mut out, RpWanted::All);
+            assert!(same_solution(&fresh, &out, true), "round {round} chain {i}");
+        }
+    }
+}
+
+#[test]
+fn needed_prefix_counts_up_to_the_last_needed_joint() {
+    assert_eq!(Needed::ALL.prefix(3), 3);
+    assert_eq!(Needed(0b011).prefix(3), 2);
+    assert_eq!(Needed(0b100).prefix(3), 3);
+    assert_eq!(Needed(0b1000).prefix(3), 0);
+    assert_eq!(Needed(0).prefix(70), 70);
+    assert_eq!(Needed(1 << 63).prefix(64), 64);
 }
 
 #[test]

@@ -37,6 +37,8 @@ use glam::{DQuat, DVec3};
 
 use super::chain::{frame_to_frame, straight_positions_into, Chain, IkError, IkSolution, IkStatus, Prepared, EPS};
 use super::iterative::{aim_axis, fabrik_positions, IterParams};
+use super::node_scratch::Needed;
+use super::rest_memo::RestMemo;
 use super::soft::{reach, ReachParams};
 
 /// Rotate-plane settings (ikHandle.poleVector and ikHandle.twist).
@@ -120,24 +122,35 @@ pub fn solve_rotate_plane(
         iter,
         &mut RpScratch::default(),
         &mut out,
-        true,
+        RpWanted::All,
     );
     out
 }
 
-/// Reusable buffers of [`solve_rotate_plane_into`] (refilled on every call: they carry no state).
+/// Reusable buffers of [`solve_rotate_plane_into`] (refilled on every call; what is kept is a memo of a
+/// pure function, so nothing carries over into results).
 #[derive(Debug, Default)]
 pub(super) struct RpScratch {
     prep: Prepared,
+    /// The chains' rest data, the one thing kept from call to call (a memo of a pure function).
+    rest: RestMemo,
     lengths: Vec<f64>,
-    rest_pos: Vec<DVec3>,
     spos: Vec<DVec3>,
     targets: Vec<DVec3>,
 }
 
-/// [`solve_rotate_plane`] into reused buffers. With `with_error` false `out.error` is
-/// left NaN (saving a forward-kinematics pass when only the pose is needed); everything
-/// else is the same as [`solve_rotate_plane`]'s, bit for bit.
+/// What a caller of [`solve_rotate_plane_into`] reads of the solution.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum RpWanted {
+    /// Everything [`solve_rotate_plane`] returns.
+    All,
+    /// The pose: `error` is left NaN (saving a forward-kinematics pass), and joints past the
+    /// last one in the set keep their rest rotation (the rotations before do not depend on them).
+    Pose(Needed),
+}
+
+/// [`solve_rotate_plane`] into reused buffers: what `wanted` names is the same as
+/// [`solve_rotate_plane`]'s, bit for bit.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn solve_rotate_plane_into(
     chain: &Chain,
@@ -147,19 +160,22 @@ pub(super) fn solve_rotate_plane_into(
     iter: &IterParams,
     s: &mut RpScratch,
     out: &mut IkSolution,
-    with_error: bool,
+    wanted: RpWanted,
 ) {
     let RpScratch {
         prep,
+        rest,
         lengths,
-        rest_pos,
         spos,
         targets,
     } = s;
-    if let Err(e) = prep.refill(chain) {
-        *out = IkSolution::invalid(chain, e);
-        return;
-    }
+    let rest = match rest.refill(prep, chain) {
+        Ok(rest) => rest,
+        Err(e) => {
+            *out = IkSolution::invalid(chain, e);
+            return;
+        }
+    };
     if !goal.is_finite() {
         *out = IkSolution::invalid(chain, IkError::NonFinite("goal"));
         return;
@@ -185,9 +201,10 @@ pub(super) fn solve_rotate_plane_into(
     }
     let g = prep.to_chain.transform_point3(goal);
     let pole = prep.to_chain.transform_vector3(rp.pole_vector);
-    prep.bone_lengths_into(lengths);
+    lengths.clear();
+    lengths.extend_from_slice(&rest.lengths);
     let total: f64 = lengths.iter().sum();
-    prep.fk_positions_into(&prep.rest_rot, rest_pos);
+    let rest_pos = &rest.positions;
     let p0 = rest_pos[0];
     let r = reach(g.distance(p0), total, reach_params);
     // From here on the chain is the stretched one (`Prepared::scaled`), in place.
@@ -226,14 +243,17 @@ pub(super) fn solve_rotate_plane_into(
         iterations = it;
         converged = err <= tol;
     }
-    prep.rotations_from_positions_into(targets, a, normal, None, &mut out.rotations);
+    let solved = match wanted {
+        RpWanted::All => n,
+        RpWanted::Pose(needed) => needed.prefix(n),
+    };
+    prep.rotations_from_positions_into(targets, a, normal, None, solved, &mut out.rotations);
     out.bone_scale.clear();
     out.bone_scale.resize(n, r.scale);
     out.bone_scale[n - 1] = 1.0;
-    out.error = if with_error {
-        prep.world_error(&out.rotations, goal)
-    } else {
-        f64::NAN
+    out.error = match wanted {
+        RpWanted::All => prep.world_error(&out.rotations, goal),
+        RpWanted::Pose(_) => f64::NAN,
     };
     out.status = if !converged {
         IkStatus::NotConverged
@@ -270,18 +290,19 @@ impl Planes {
             .sum();
         let scale = rest.iter().map(|p| p.distance(p0)).fold(0.0, f64::max).max(1.0);
         let w_rest = perp(bend, u_r).filter(|_| bend.length() > 1e-9 * scale);
-        // Minimal rotation from the rest axis to the goal axis.
-        let carry = super::chain::aim(u_r, u, DVec3::ZERO);
+        // Minimal rotation from the rest axis to the goal axis (computed only on the paths that
+        // use it, at most once: not at all with a pole and a bent rest chain).
+        let carry = || super::chain::aim(u_r, u, DVec3::ZERO);
         let pole_w = perp(pole, u).filter(|_| pole.length() > EPS);
         let w0 = match (pole_w, w_rest) {
             (Some(w), _) => w,
-            (None, Some(wr)) => perp(carry * wr, u).unwrap_or_else(|| u.any_orthonormal_vector()),
+            (None, Some(wr)) => perp(carry() * wr, u).unwrap_or_else(|| u.any_orthonormal_vector()),
             (None, None) => u.any_orthonormal_vector(),
         };
         let w = perp(DQuat::from_axis_angle(u, twist) * w0, u).unwrap_or(w0);
         let w_r = match w_rest {
             Some(wr) => wr,
-            None => perp(carry.inverse() * w, u_r).unwrap_or_else(|| u_r.any_orthonormal_vector()),
+            None => perp(carry().inverse() * w, u_r).unwrap_or_else(|| u_r.any_orthonormal_vector()),
         };
         Planes { u_r, w_r, u, w }
     }

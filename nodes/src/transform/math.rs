@@ -315,7 +315,19 @@ pub fn rotate_for_orientation(
 ) -> DVec3 {
     let jo = euler_to_quat(joint_orient, RotateOrder::Xyz);
     let ra = euler_to_quat(rotate_axis, RotateOrder::Xyz);
-    let r = jo.conjugate() * sanitize_quat(target) * ra.conjugate();
+    rotate_for_orientation_quats(target, order, ra, jo, prev)
+}
+
+/// [`rotate_for_orientation`] with the rotate axis and joint orient given as their
+/// quaternions (`euler_to_quat(.., RotateOrder::Xyz)`), for callers that cache them.
+pub fn rotate_for_orientation_quats(
+    target: DQuat,
+    order: RotateOrder,
+    rotate_axis: DQuat,
+    joint_orient: DQuat,
+    prev: Option<DVec3>,
+) -> DVec3 {
+    let r = joint_orient.conjugate() * sanitize_quat(target) * rotate_axis.conjugate();
     match prev {
         Some(prev) => quat_to_euler_closest(r, order, prev),
         None => quat_to_euler(r, order),
