@@ -1,5 +1,6 @@
 //! The whole example biped (graphs/examples/biped/biped.ron) per frame: compiled (the per-frame
-//! schedule, and every step) against lazy evaluation (set the time, pull every joint's world
+//! schedule; pruned to the joints' world matrices as authored, arms in FK, and with both arms
+//! switched to IK; every step) against lazy evaluation (set the time, pull every joint's world
 //! matrix). Criterion's `elem/s` is nodes per second (divide 1e9 by it for ns per node).
 //!
 //! Run: `cargo bench --bench biped`.
@@ -45,8 +46,19 @@ fn biped(c: &mut Criterion) {
         )
         .expect("compile"),
     );
-    eprintln!("biped pruned: {} run per frame", pruned.frame_step_count());
+    eprintln!(
+        "biped pruned: {} run per frame, {:?} while the arms stay in FK",
+        pruned.frame_step_count(),
+        pruned.guarded_frame_step_count()
+    );
     let pruned_handles: Vec<PlugHandle> = joints.iter().map(|j| pruned.handle(j).expect("handle")).collect();
+    // The same program with both arms switched to IK: all four limb chains solve every frame
+    // (the instance runs the general schedule: the FK/IK switch differs from its compiled value).
+    let mut ik_inst = Instance::new(pruned.clone());
+    for side in ["L", "R"] {
+        let h = pruned.handle(&format!("arm_settings_{side}.input")).expect("handle");
+        ik_inst.set(&h, Value::Float(1.0)).expect("set");
+    }
 
     let mut g = c.benchmark_group("biped_frame");
     g.throughput(Throughput::Elements(nodes));
@@ -71,6 +83,16 @@ fn biped(c: &mut Criterion) {
                 .expect("eval");
             for h in &pruned_handles {
                 black_box(pruned_inst.get(h));
+            }
+        })
+    });
+    g.bench_function("compiled_pruned_arms_ik", |b| {
+        let mut f = 0u64;
+        b.iter(|| {
+            f += 1;
+            ik_inst.evaluate(Time::new((f % 48 + 1) as f64, 24.0)).expect("eval");
+            for h in &pruned_handles {
+                black_box(ik_inst.get(h));
             }
         })
     });

@@ -1,7 +1,8 @@
 //! Runs the example biped, compiled and pruned to its joints' world matrices (what an engine
 //! reads), for a number of frames: a target for profilers (`perf`, `valgrind --tool=callgrind`).
 //!
-//! Run: `cargo run --release --example biped_profile -- 2000`.
+//! Run: `cargo run --release --example biped_profile -- 2000` (add `ik` after the frame
+//! count to switch both arms to IK: all four limb chains then solve every frame).
 
 use std::path::Path;
 use std::sync::Arc;
@@ -32,6 +33,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map(|j| program.handle(j))
         .collect::<Result<Vec<_>, _>>()?;
     let mut inst = Instance::new(program.clone());
+    if std::env::args().nth(2).as_deref() == Some("ik") {
+        for side in ["L", "R"] {
+            inst.set(
+                &program.handle(&format!("arm_settings_{side}.input"))?,
+                Value::Float(1.0),
+            )?;
+        }
+    }
     let start = Instant::now();
     let mut checksum = 0.0;
     for f in 0..frames {

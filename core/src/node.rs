@@ -12,7 +12,7 @@ use crate::error::ComputeError;
 use crate::graph::store::AttrStore;
 pub use crate::inactive::KnownInputs;
 use crate::kernel::ScalarKernel;
-use crate::program::{AttrBinding, Binding, CompiledTables};
+use crate::program::{lane, AttrBinding, Binding, CompiledTables};
 use crate::spec::{AttrId, Input, MultiInput, MultiOutput, NodeSpec, Output};
 use crate::value::{AttrValue, SharedData, Value};
 
@@ -226,10 +226,18 @@ impl<'a> ComputeContext<'a> {
                 if k >= b.len as usize {
                     return None;
                 }
-                let e = self.tables.elems.get(b.first as usize + k)?;
-                match e.binding {
+                let binding = if k == 0 {
+                    b.head
+                } else {
+                    self.tables.elems.get(b.first as usize + k)?.binding
+                };
+                // Typed reads: no `Value` is built for a whole slot, one float or a vec3.
+                match binding {
                     Binding::Slot(s) => T::from_value(self.slots.get(s as usize)?),
-                    _ => T::from_value(&self.tables.resolve(self.slots, e.binding)),
+                    Binding::Component(s, c) => T::from_value(&Value::Float(lane(self.slots, s, Some(c)))),
+                    Binding::Assemble(x) => {
+                        T::from_value(&Value::Vec3(self.tables.assemblies.get(x as usize)?.read(self.slots)))
+                    }
                 }
             }
         }

@@ -100,9 +100,13 @@ impl CompiledTables {
     };
 }
 
-fn lane(slots: &[Value], slot: u32, comp: Option<u8>) -> f64 {
+/// One float read from a slot: lane `comp` of a vec3 slot, or a number slot as a float.
+#[inline]
+pub(crate) fn lane(slots: &[Value], slot: u32, comp: Option<u8>) -> f64 {
     match (slots.get(slot as usize), comp) {
-        (Some(Value::Vec3(v)), Some(k)) => v[k as usize % 3],
+        (Some(Value::Vec3(v)), Some(0)) => v.x,
+        (Some(Value::Vec3(v)), Some(1)) => v.y,
+        (Some(Value::Vec3(v)), Some(_)) => v.z,
         (Some(v), None) => v.as_f64().unwrap_or(0.0),
         _ => 0.0,
     }
@@ -114,22 +118,28 @@ impl CompiledTables {
         match b {
             Binding::Slot(s) => slots.get(s as usize).cloned().unwrap_or(Value::Float(0.0)),
             Binding::Component(s, k) => Value::Float(lane(slots, s, Some(k))),
-            Binding::Assemble(a) => {
-                let Some(asm) = self.assemblies.get(a as usize) else {
-                    return Value::Float(0.0);
-                };
-                let mut v = match slots.get(asm.own as usize) {
-                    Some(Value::Vec3(v)) => *v,
-                    _ => glam::DVec3::ZERO,
-                };
-                for (k, c) in asm.comps.iter().enumerate() {
-                    if let Some((s, comp)) = c {
-                        v[k] = lane(slots, *s, *comp);
-                    }
-                }
-                Value::Vec3(v)
+            Binding::Assemble(a) => match self.assemblies.get(a as usize) {
+                Some(asm) => Value::Vec3(asm.read(slots)),
+                None => Value::Float(0.0),
+            },
+        }
+    }
+}
+
+impl Assembly {
+    /// The vec3 this assembly reads: its own slot with the connected components replaced.
+    #[inline]
+    pub(crate) fn read(&self, slots: &[Value]) -> glam::DVec3 {
+        let mut v = match slots.get(self.own as usize) {
+            Some(Value::Vec3(v)) => *v,
+            _ => glam::DVec3::ZERO,
+        };
+        for (k, c) in self.comps.iter().enumerate() {
+            if let Some((s, comp)) = c {
+                v[k] = lane(slots, *s, *comp);
             }
         }
+        v
     }
 }
 
