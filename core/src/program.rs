@@ -302,6 +302,19 @@ impl Program {
         self.guarded.as_ref().map(|g| g.frame_steps.len())
     }
 
+    /// The steps a frame runs (the guarded schedule's while `guarded`), as
+    /// `node (type) group` lines in schedule order: what an instance computes per frame.
+    pub fn frame_step_names(&self, guarded: bool) -> Vec<String> {
+        let steps = match (&self.guarded, guarded) {
+            (Some(g), true) => &g.frame_schedule,
+            _ => &self.frame_schedule,
+        };
+        steps
+            .iter()
+            .map(|s| format!("{} ({}) group {}", self.step_node_name(s), s.kind.spec().name, s.group))
+            .collect()
+    }
+
     /// Number of value slots.
     pub fn slot_count(&self) -> usize {
         self.initial.len()

@@ -48,6 +48,15 @@ fn an_unread_branch_is_not_evaluated_while_the_selector_holds() {
     // clock and clamp are not needed and pick reads only constants.
     assert_eq!(program.frame_step_count(), 3);
     assert_eq!(program.guarded_frame_step_count(), Some(0));
+    assert_eq!(
+        program.frame_step_names(false),
+        [
+            "clock (timeSource) group 0",
+            "clamp (clampPositive) group 0",
+            "pick (pick) group 0"
+        ]
+    );
+    assert!(program.frame_step_names(true).is_empty());
     let out = program.handle("pick.output").unwrap();
     let mut inst = Instance::new(program.clone());
     inst.evaluate(at(1.0)).unwrap(); // the first (full) evaluation runs clamp at -200: fine
