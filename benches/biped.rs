@@ -63,49 +63,15 @@ fn biped(c: &mut Criterion) {
     let mut g = c.benchmark_group("biped_frame");
     g.throughput(Throughput::Elements(nodes));
     let mut inst = Instance::new(program.clone());
-    g.bench_function("compiled", |b| {
-        let mut f = 0u64;
-        b.iter(|| {
-            f += 1;
-            inst.evaluate(Time::new((f % 48 + 1) as f64, 24.0)).expect("eval");
-            for h in &handles {
-                black_box(inst.get(h));
-            }
-        })
-    });
+    g.bench_function("compiled", |b| frames(b, &mut inst, &handles, false));
     let mut pruned_inst = Instance::new(pruned);
     g.bench_function("compiled_pruned", |b| {
-        let mut f = 0u64;
-        b.iter(|| {
-            f += 1;
-            pruned_inst
-                .evaluate(Time::new((f % 48 + 1) as f64, 24.0))
-                .expect("eval");
-            for h in &pruned_handles {
-                black_box(pruned_inst.get(h));
-            }
-        })
+        frames(b, &mut pruned_inst, &pruned_handles, false)
     });
     g.bench_function("compiled_pruned_arms_ik", |b| {
-        let mut f = 0u64;
-        b.iter(|| {
-            f += 1;
-            ik_inst.evaluate(Time::new((f % 48 + 1) as f64, 24.0)).expect("eval");
-            for h in &pruned_handles {
-                black_box(ik_inst.get(h));
-            }
-        })
+        frames(b, &mut ik_inst, &pruned_handles, false)
     });
-    g.bench_function("compiled_full", |b| {
-        let mut f = 0u64;
-        b.iter(|| {
-            f += 1;
-            inst.evaluate_full(Time::new((f % 48 + 1) as f64, 24.0)).expect("eval");
-            for h in &handles {
-                black_box(inst.get(h));
-            }
-        })
-    });
+    g.bench_function("compiled_full", |b| frames(b, &mut inst, &handles, true));
     g.bench_function("lazy", |b| {
         let mut f = 0u64;
         b.iter(|| {
@@ -117,6 +83,23 @@ fn biped(c: &mut Criterion) {
         })
     });
     g.finish();
+}
+
+/// Evaluates `inst` over the 48-frame cycle (every step when `full`) and reads `handles`.
+fn frames(b: &mut criterion::Bencher<'_>, inst: &mut Instance, handles: &[PlugHandle], full: bool) {
+    let mut f = 0u64;
+    b.iter(|| {
+        f += 1;
+        let time = Time::new((f % 48 + 1) as f64, 24.0);
+        if full {
+            inst.evaluate_full(time).expect("eval");
+        } else {
+            inst.evaluate(time).expect("eval");
+        }
+        for h in handles {
+            black_box(inst.get(h));
+        }
+    })
 }
 
 criterion_group!(benches, biped);
