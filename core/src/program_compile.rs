@@ -1,0 +1,365 @@
+//! Compiling a graph into a [`Program`]: slots for outputs and unconnected inputs,
+//! bindings for every attribute element, one step per node compute group, their
+//! dependencies in topological order, pruning to the observed plugs, the per-frame
+//! steps, and the guarded schedule of [`crate::inactive`].
+
+use std::collections::HashMap;
+
+use crate::error::{Error, Result};
+use crate::graph::{Graph, NodeId, Plug};
+use crate::inactive;
+use crate::program::{
+    frame_schedule, Assembly, AttrBinding, Binding, CompileOptions, CompiledTables, ElemBinding, GuardedSchedule,
+    NodeEntry, Program, Step,
+};
+use crate::spec::{AttrId, Direction};
+use crate::value::Value;
+
+/// The compiler's state for one graph.
+pub(crate) struct Compiler<'g> {
+    graph: &'g Graph,
+    order: Vec<NodeId>,
+    attr_base: Vec<u32>,
+    initial: Vec<Value>,
+    output_slot_producer: Vec<Option<(u32, u16)>>,
+    resolved: HashMap<(NodeId, AttrId, u32), Binding>,
+    own: HashMap<(NodeId, AttrId, u32), u32>,
+    outputs: HashMap<(NodeId, AttrId, u32), u32>,
+    assemblies: Vec<Assembly>,
+}
+
+impl<'g> Compiler<'g> {
+    pub(crate) fn new(graph: &'g Graph) -> Self {
+        let order = graph.nodes();
+        Compiler {
+            graph,
+            order,
+            attr_base: Vec::new(),
+            initial: Vec::new(),
+            output_slot_producer: Vec::new(),
+            resolved: HashMap::new(),
+            own: HashMap::new(),
+            outputs: HashMap::new(),
+            assemblies: Vec::new(),
+        }
+    }
+
+    fn new_slot(&mut self, v: Value, producer: Option<(u32, u16)>) -> u32 {
+        self.initial.push(v);
+        self.output_slot_producer.push(producer);
+        (self.initial.len() - 1) as u32
+    }
+
+    /// The binding through which the value at `plug` (an element, maybe a component) is read.
+    fn binding_of(&mut self, plug: Plug, depth: u32) -> Result<Binding> {
+        if depth > 10_000 {
+            return Err(Error::Program("connection chain too deep".into()));
+        }
+        let key = (plug.node, plug.attr, plug.elem());
+        let whole = if let Some(&b) = self.resolved.get(&key) {
+            b
+        } else {
+            let data = self.graph.data(plug.node)?;
+            let store = &data.attrs[plug.attr.index()];
+            let k = store.find(plug.elem()).ok_or_else(|| {
+                Error::Program(format!(
+                    "{} has no element {}",
+                    self.graph.plug_name(plug.whole()),
+                    plug.elem()
+                ))
+            })?;
+            let e = &store.elems[k];
+            let b = if let Some(&s) = self.outputs.get(&key) {
+                Binding::Slot(s)
+            } else if let Some(src) = e.source {
+                self.binding_of(src, depth + 1)?
+            } else if let Some(cs) = e.comp_sources.clone() {
+                let own = self.own[&key];
+                let mut comps = [None; 3];
+                for (k, s) in cs.iter().enumerate() {
+                    if let Some(s) = s {
+                        comps[k] = Some(match self.binding_of(*s, depth + 1)? {
+                            Binding::Slot(x) => (x, None),
+                            Binding::Component(x, c) => (x, Some(c)),
+                            Binding::Assemble(_) => {
+                                return Err(Error::Program("component source resolved to a vec3".into()))
+                            }
+                        });
+                    }
+                }
+                self.assemblies.push(Assembly { own, comps });
+                Binding::Assemble((self.assemblies.len() - 1) as u32)
+            } else {
+                Binding::Slot(self.own[&key])
+            };
+            self.resolved.insert(key, b);
+            b
+        };
+        Ok(match (whole, plug.component) {
+            (b, None) => b,
+            (Binding::Slot(s), Some(k)) => Binding::Component(s, k),
+            (Binding::Assemble(x), Some(k)) => {
+                let asm = self.assemblies[x as usize];
+                match asm.comps[k as usize] {
+                    Some((s, Some(c))) => Binding::Component(s, c),
+                    Some((s, None)) => Binding::Slot(s),
+                    None => Binding::Component(asm.own, k),
+                }
+            }
+            (Binding::Component(..), Some(_)) => return Err(Error::Program("component of a float".into())),
+        })
+    }
+
+    pub(crate) fn run(mut self, options: &CompileOptions) -> Result<Program> {
+        let g = self.graph;
+        // Pass 1: slots for outputs (per group) and for inputs not driven as a whole.
+        let mut total_attrs = 0u32;
+        for (ni, &id) in self.order.clone().iter().enumerate() {
+            let data = g.data(id)?;
+            self.attr_base.push(total_attrs);
+            total_attrs += data.attrs.len() as u32;
+            let spec = data.spec();
+            for (a, store) in data.attrs.iter().enumerate() {
+                let attr = AttrId(a as u16);
+                let aspec = spec.attr(attr);
+                for e in &store.elems {
+                    let key = (id, attr, e.index);
+                    if aspec.direction == Direction::Output {
+                        let group = spec.group_of(attr).unwrap_or(0);
+                        let s = self.new_slot(e.value.clone(), Some((ni as u32, group)));
+                        self.outputs.insert(key, s);
+                    } else if e.source.is_none() {
+                        let s = self.new_slot(e.value.clone(), None);
+                        self.own.insert(key, s);
+                    }
+                }
+            }
+        }
+        // Pass 2: bindings for every element.
+        let mut attr_bindings = vec![AttrBinding::default(); total_attrs as usize];
+        let mut elems = Vec::new();
+        for (ni, &id) in self.order.clone().iter().enumerate() {
+            let data = g.data(id)?;
+            let spec = data.spec();
+            for (a, store) in data.attrs.iter().enumerate() {
+                let first = elems.len() as u32;
+                let multi = spec.attrs[a].multi;
+                for e in &store.elems {
+                    let plug = Plug::element(id, AttrId(a as u16), multi, e.index);
+                    let binding = self.binding_of(plug, 0)?;
+                    elems.push(ElemBinding {
+                        index: e.index,
+                        binding,
+                    });
+                }
+                let ab = &mut attr_bindings[(self.attr_base[ni] + a as u32) as usize];
+                *ab = AttrBinding {
+                    first,
+                    len: elems.len() as u32 - first,
+                    group: spec.group_of(AttrId(a as u16)).unwrap_or(u16::MAX),
+                    ..AttrBinding::default()
+                };
+                ab.set_head(elems.get(first as usize).map(|e| e.binding));
+            }
+        }
+        let tables = CompiledTables {
+            elems,
+            assemblies: std::mem::take(&mut self.assemblies),
+        };
+        // Steps, one per node group, and their dependencies.
+        let mut steps: Vec<Step> = Vec::new();
+        let mut step_of: HashMap<(u32, u16), u32> = HashMap::new();
+        for (ni, &id) in self.order.iter().enumerate() {
+            let data = g.data(id)?;
+            for gi in 0..data.spec().groups().len() {
+                step_of.insert((ni as u32, gi as u16), steps.len() as u32);
+                steps.push(Step::new(
+                    data.kind.clone(),
+                    ni as u32,
+                    self.attr_base[ni],
+                    gi as u16,
+                    &attr_bindings,
+                ));
+            }
+        }
+        let slot_reads = |b: Binding, out: &mut Vec<u32>| match b {
+            Binding::Slot(s) | Binding::Component(s, _) => out.push(s),
+            Binding::Assemble(x) => {
+                let asm = tables.assemblies[x as usize];
+                out.push(asm.own);
+                out.extend(asm.comps.iter().flatten().map(|c| c.0));
+            }
+        };
+        let mut dynamic_slot = vec![false; self.initial.len()];
+        for p in &options.dynamic_inputs {
+            let key = (p.node, p.attr, p.elem());
+            match self.own.get(&key) {
+                Some(&s) => dynamic_slot[s as usize] = true,
+                None => {
+                    return Err(Error::Program(format!(
+                        "{} cannot be dynamic: it is an output or driven by a connection",
+                        g.plug_name(*p)
+                    )))
+                }
+            }
+        }
+        let n = steps.len();
+        let mut deps: Vec<Vec<u32>> = vec![Vec::new(); n];
+        let mut reads_dynamic = vec![false; n];
+        let mut reads: Vec<Vec<(AttrId, u32)>> = vec![Vec::new(); n];
+        let mut buf = Vec::new();
+        for (si, step) in steps.iter().enumerate() {
+            let spec = step.kind.spec();
+            for &a in &spec.groups()[step.group as usize].inputs {
+                let ab = attr_bindings[(step.attr_base + a.0 as u32) as usize];
+                for eb in &tables.elems[ab.first as usize..(ab.first + ab.len) as usize] {
+                    buf.clear();
+                    slot_reads(eb.binding, &mut buf);
+                    for &s in &buf {
+                        reads[si].push((a, s));
+                        if dynamic_slot[s as usize] {
+                            reads_dynamic[si] = true;
+                        }
+                        if let Some(p) = self.output_slot_producer[s as usize] {
+                            if let Some(&d) = step_of.get(&p) {
+                                if d as usize != si {
+                                    deps[si].push(d);
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        // Kahn's algorithm, lowest step index first for a stable order.
+        let mut indegree = vec![0u32; n];
+        let mut users: Vec<Vec<u32>> = vec![Vec::new(); n];
+        for (si, ds) in deps.iter_mut().enumerate() {
+            ds.sort_unstable();
+            ds.dedup();
+            indegree[si] = ds.len() as u32;
+            for &d in ds.iter() {
+                users[d as usize].push(si as u32);
+            }
+        }
+        let mut ready: std::collections::BinaryHeap<std::cmp::Reverse<u32>> = (0..n as u32)
+            .filter(|&i| indegree[i as usize] == 0)
+            .map(std::cmp::Reverse)
+            .collect();
+        let mut order = Vec::with_capacity(n);
+        while let Some(std::cmp::Reverse(i)) = ready.pop() {
+            order.push(i);
+            for &u in &users[i as usize] {
+                indegree[u as usize] -= 1;
+                if indegree[u as usize] == 0 {
+                    ready.push(std::cmp::Reverse(u));
+                }
+            }
+        }
+        if order.len() != n {
+            return Err(Error::Program(
+                "the graph has a plug-level cycle; it cannot be compiled".into(),
+            ));
+        }
+        // Prune steps nothing observed needs.
+        let mut needed = vec![options.observed.is_none(); n];
+        let mut seeds: Option<Vec<u32>> = None;
+        if let Some(observed) = &options.observed {
+            let mut stack = Vec::new();
+            for p in observed {
+                let b = self.binding_of(*p, 0)?;
+                let mut reads = Vec::new();
+                slot_reads(b, &mut reads);
+                for s in reads {
+                    if let Some(prod) = self.output_slot_producer[s as usize] {
+                        if let Some(&d) = step_of.get(&prod) {
+                            stack.push(d);
+                        }
+                    }
+                }
+            }
+            seeds = Some(stack.clone());
+            while let Some(i) = stack.pop() {
+                if !std::mem::replace(&mut needed[i as usize], true) {
+                    stack.extend(deps[i as usize].iter().copied());
+                }
+            }
+            order.retain(|&i| needed[i as usize]);
+        }
+        let mut dynamic = vec![false; n];
+        for &i in &order {
+            let i = i as usize;
+            dynamic[i] = steps[i].kind.spec().group_time_dependent(steps[i].group)
+                || reads_dynamic[i]
+                || deps[i].iter().any(|&d| dynamic[d as usize]);
+        }
+        let producer: Vec<Option<u32>> = self
+            .output_slot_producer
+            .iter()
+            .map(|p| p.as_ref().and_then(|p| step_of.get(p).copied()))
+            .collect();
+        let selective = inactive::analyse(&inactive::Analysis {
+            steps: &steps,
+            order: &order,
+            reads: &reads,
+            producer: &producer,
+            dynamic_slot: &dynamic_slot,
+            attr_bindings: &attr_bindings,
+            tables: &tables,
+            initial: &self.initial,
+            seeds: seeds.as_deref(),
+        });
+        // Handles are refused for outputs the smaller schedule may leave stale.
+        let computed = selective.as_ref().map_or(&needed, |s| &s.needed);
+        let pruned_slot = producer
+            .iter()
+            .map(|p| p.is_some_and(|d| !computed[d as usize]))
+            .collect();
+        // Reorder steps into schedule order.
+        let mut slots_of_steps: Vec<Option<Step>> = steps.into_iter().map(Some).collect();
+        let mut sorted = Vec::with_capacity(n);
+        let mut frame_steps = Vec::new();
+        for (k, &i) in order.iter().enumerate() {
+            if let Some(s) = slots_of_steps[i as usize].take() {
+                sorted.push(s);
+            }
+            if dynamic[i as usize] {
+                frame_steps.push(k as u32);
+            }
+        }
+        let nodes = self
+            .order
+            .iter()
+            .enumerate()
+            .map(|(ni, &id)| {
+                let d = &g.nodes[id];
+                NodeEntry {
+                    name: d.name.clone(),
+                    kind: d.kind.clone(),
+                    attr_base: self.attr_base[ni],
+                }
+            })
+            .collect::<Vec<_>>();
+        let node_index = nodes
+            .iter()
+            .enumerate()
+            .map(|(i, e)| (e.name.clone(), i as u32))
+            .collect();
+        let own_input_slot = self.output_slot_producer.iter().map(|p| p.is_none()).collect();
+        let guarded = selective.map(|s| GuardedSchedule::new(&sorted, s.frame_steps, s.guards));
+        Ok(Program {
+            guarded,
+            frame_schedule: frame_schedule(&sorted, &frame_steps),
+            steps: sorted,
+            frame_steps,
+            attr_bindings,
+            tables,
+            initial: self.initial,
+            dynamic_slot,
+            own_input_slot,
+            pruned_slot,
+            nodes,
+            node_index,
+        })
+    }
+}
