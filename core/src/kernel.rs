@@ -26,6 +26,10 @@ pub enum ScalarOp {
     Sub,
     /// `x[0] * x[1]`.
     Mul,
+    /// `finite(x[0] + x[1])` ([`finite`]: Maya's `addDoubleLinear` saturates).
+    AddFinite,
+    /// `finite(x[0] * x[1])` ([`finite`]: `multDoubleLinear`, `unitConversion`).
+    MulFinite,
     /// Any pure, total function of the inputs (`x.len()` is the kernel's input count).
     Custom(fn(&[f64]) -> f64),
 }
@@ -38,6 +42,8 @@ impl ScalarOp {
             ScalarOp::Add => x[0] + x[1],
             ScalarOp::Sub => x[0] - x[1],
             ScalarOp::Mul => x[0] * x[1],
+            ScalarOp::AddFinite => finite(x[0] + x[1]),
+            ScalarOp::MulFinite => finite(x[0] * x[1]),
             ScalarOp::Custom(f) => f(&x[..n.min(MAX_KERNEL_INPUTS)]),
         }
     }
@@ -45,7 +51,7 @@ impl ScalarOp {
     /// How many inputs the operation needs (`None`: any count from 1 to [`MAX_KERNEL_INPUTS`]).
     fn arity(self) -> Option<usize> {
         match self {
-            ScalarOp::Add | ScalarOp::Sub | ScalarOp::Mul => Some(2),
+            ScalarOp::Add | ScalarOp::Sub | ScalarOp::Mul | ScalarOp::AddFinite | ScalarOp::MulFinite => Some(2),
             ScalarOp::Custom(_) => None,
         }
     }
@@ -149,6 +155,8 @@ impl ScalarKernel {
             ScalarOp::Add => ctx.get(i0) + ctx.get(i1),
             ScalarOp::Sub => ctx.get(i0) - ctx.get(i1),
             ScalarOp::Mul => ctx.get(i0) * ctx.get(i1),
+            ScalarOp::AddFinite => finite(ctx.get(i0) + ctx.get(i1)),
+            ScalarOp::MulFinite => finite(ctx.get(i0) * ctx.get(i1)),
             ScalarOp::Custom(_) => {
                 let mut x = [0.0; MAX_KERNEL_INPUTS];
                 for (v, &h) in x.iter_mut().zip(self.inputs()) {
@@ -182,6 +190,10 @@ enum Code {
     Sub,
     /// `x[0] * x[1]`, both whole float slots.
     Mul,
+    /// `finite(x[0] + x[1])`, both whole float slots.
+    AddFinite,
+    /// `finite(x[0] * x[1])`, both whole float slots.
+    MulFinite,
     /// Anything else: inputs read by lane, then `op`.
     General,
 }
@@ -213,6 +225,17 @@ impl NodeType for KernelNode {
     }
     fn scalar_kernel(&self) -> Option<&ScalarKernel> {
         Some(&self.kernel)
+    }
+}
+
+/// `x` made finite: NaN becomes 0, infinities saturate at `±f64::MAX` (the convention of
+/// the utility nodes, after Maya's saturating `addDoubleLinear`/`multDoubleLinear`).
+#[inline]
+pub fn finite(x: f64) -> f64 {
+    if x.is_nan() {
+        0.0
+    } else {
+        x.clamp(-f64::MAX, f64::MAX)
     }
 }
 
@@ -255,6 +278,8 @@ impl KernelStep {
             ScalarOp::Add if whole => Code::Add,
             ScalarOp::Sub if whole => Code::Sub,
             ScalarOp::Mul if whole => Code::Mul,
+            ScalarOp::AddFinite if whole => Code::AddFinite,
+            ScalarOp::MulFinite if whole => Code::MulFinite,
             _ => Code::General,
         };
         Some(KernelStep {
@@ -283,6 +308,14 @@ impl KernelStep {
             },
             Code::Mul => match (slots.get(i0.slot as usize), slots.get(i1.slot as usize)) {
                 (Some(Value::Float(a)), Some(Value::Float(b))) => a * b,
+                _ => return false,
+            },
+            Code::AddFinite => match (slots.get(i0.slot as usize), slots.get(i1.slot as usize)) {
+                (Some(Value::Float(a)), Some(Value::Float(b))) => finite(a + b),
+                _ => return false,
+            },
+            Code::MulFinite => match (slots.get(i0.slot as usize), slots.get(i1.slot as usize)) {
+                (Some(Value::Float(a)), Some(Value::Float(b))) => finite(a * b),
                 _ => return false,
             },
             Code::General => match self.general(slots) {
@@ -414,6 +447,36 @@ mod tests {
         let sum = 0.2f64 * 3.0 + 0.7;
         let expected = sum * (0.3f64 * 3.0) + -0.1;
         assert_eq!(g.get_path("f.output").unwrap().as_f64(), Some(expected));
+    }
+
+    #[test]
+    fn saturating_ops_run_straight_line_and_saturate() {
+        for (op, code, a, b, want) in [
+            (ScalarOp::MulFinite, Code::MulFinite, 1e300, -1e300, -f64::MAX),
+            (ScalarOp::AddFinite, Code::AddFinite, f64::MAX, f64::MAX, f64::MAX),
+            (ScalarOp::MulFinite, Code::MulFinite, 0.75, -4.0, -3.0),
+        ] {
+            let mut s = NodeSpec::builder("sat");
+            let (x, y) = (s.input("x", 0.0), s.input("y", 0.0));
+            let out = s.output("output", 0.0);
+            let mut r = Registry::new();
+            r.register(KernelNode::new(s.build().unwrap(), &[x, y], out, op).unwrap())
+                .unwrap();
+            let mut g = Graph::new(Arc::new(r));
+            g.add_node("sat", "n").unwrap();
+            g.set_path("n.x", Value::Float(a)).unwrap();
+            g.set_path("n.y", Value::Float(b)).unwrap();
+            let program = Arc::new(Program::compile(&g, &CompileOptions::default()).unwrap());
+            let k = program.steps[0].kernel.expect("a kernel");
+            assert!(matches!(
+                (k.code, code),
+                (Code::MulFinite, Code::MulFinite) | (Code::AddFinite, Code::AddFinite)
+            ));
+            let mut inst = Instance::new(program.clone());
+            inst.evaluate(Time::default()).unwrap();
+            assert_eq!(inst.get_typed::<f64>(&program.handle("n.output").unwrap()), Some(want));
+            assert_eq!(g.get_path("n.output").unwrap().as_f64(), Some(want), "compute agrees");
+        }
     }
 
     #[test]

@@ -26,7 +26,7 @@ pub mod value;
 pub use data::{Curve, CurveForm, Mesh, Weights};
 pub use error::{ComputeError, Error, Result, SpecError};
 pub use graph::{EvalStats, Graph, NodeId, Plug};
-pub use kernel::{KernelNode, ScalarKernel, ScalarOp, MAX_KERNEL_INPUTS};
+pub use kernel::{finite, KernelNode, ScalarKernel, ScalarOp, MAX_KERNEL_INPUTS};
 pub use node::{ComputeContext, KnownInputs, NodeType, Time};
 pub use program::{evaluate_batch, CompileOptions, Instance, PlugHandle, Program};
 pub use registry::Registry;

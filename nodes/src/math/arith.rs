@@ -200,43 +200,27 @@ pub fn unit_conversion() -> Result<KernelNode, SpecError> {
     let input = s.input("input", 0.0);
     let factor = s.input("conversionFactor", 1.0);
     let output = s.output("output", 0.0);
-    KernelNode::new(s.build()?, &[input, factor], output, ScalarOp::Custom(product))
+    KernelNode::new(s.build()?, &[input, factor], output, ScalarOp::MulFinite)
 }
 
 /// Maya's `addDoubleLinear`: `output = input1 + input2`, overflow saturated at `±f64::MAX`;
 /// a [`KernelNode`].
 pub fn add_double_linear() -> Result<KernelNode, SpecError> {
-    scalar_pair("addDoubleLinear", "output = input1 + input2", sum)
+    scalar_pair("addDoubleLinear", "output = input1 + input2", ScalarOp::AddFinite)
 }
 
 /// Maya's `multDoubleLinear`: `output = input1 · input2`, overflow saturated at `±f64::MAX`;
 /// a [`KernelNode`].
 pub fn mult_double_linear() -> Result<KernelNode, SpecError> {
-    scalar_pair("multDoubleLinear", "output = input1 * input2", product)
+    scalar_pair("multDoubleLinear", "output = input1 * input2", ScalarOp::MulFinite)
 }
 
 /// A node type `name` with float inputs `input1`, `input2` and `output = op(input1, input2)`.
-fn scalar_pair(name: &str, doc: &str, op: fn(&[f64]) -> f64) -> Result<KernelNode, SpecError> {
+fn scalar_pair(name: &str, doc: &str, op: ScalarOp) -> Result<KernelNode, SpecError> {
     let mut s = NodeSpec::builder(name);
     s.doc(doc);
     let input1 = s.input("input1", 0.0);
     let input2 = s.input("input2", 0.0);
     let output = s.output("output", 0.0);
-    KernelNode::new(s.build()?, &[input1, input2], output, ScalarOp::Custom(op))
-}
-
-/// `finite(a + b)`, the kernel of `addDoubleLinear`.
-fn sum(x: &[f64]) -> f64 {
-    match x {
-        [a, b, ..] => finite(a + b),
-        _ => 0.0,
-    }
-}
-
-/// `finite(a · b)`, the kernel of `unitConversion` and `multDoubleLinear`.
-fn product(x: &[f64]) -> f64 {
-    match x {
-        [a, b, ..] => finite(a * b),
-        _ => 0.0,
-    }
+    KernelNode::new(s.build()?, &[input1, input2], output, op)
 }

@@ -62,11 +62,7 @@ pub(crate) use node_type;
 /// `x` made finite: NaN becomes 0, infinities saturate at `±f64::MAX`.
 #[inline]
 pub fn finite(x: f64) -> f64 {
-    if x.is_nan() {
-        0.0
-    } else {
-        x.clamp(-f64::MAX, f64::MAX)
-    }
+    sinew_core::finite(x)
 }
 
 /// [`finite`] per component.
