@@ -212,9 +212,23 @@ fn at(m: &DMat3, r: usize, c: usize) -> f64 {
 /// from its full-magnitude entries, which keeps the result accurate right up
 /// to the lock.
 fn extract(m: &DMat3, order: RotateOrder, gimbal_last: f64) -> DVec3 {
-    let [i, j, k] = order.axes();
+    // One instantiation per order: its axes are constants, so every index below is a field
+    // access (the same arithmetic as with run-time indices, without the index dispatch).
     let p = order.parity();
-    let (m_ii, m_ji, m_ki) = (at(m, i, i), at(m, j, i), at(m, k, i));
+    match order {
+        RotateOrder::Xyz => extract_axes::<0, 1, 2>(m, p, gimbal_last),
+        RotateOrder::Yzx => extract_axes::<1, 2, 0>(m, p, gimbal_last),
+        RotateOrder::Zxy => extract_axes::<2, 0, 1>(m, p, gimbal_last),
+        RotateOrder::Xzy => extract_axes::<0, 2, 1>(m, p, gimbal_last),
+        RotateOrder::Yxz => extract_axes::<1, 0, 2>(m, p, gimbal_last),
+        RotateOrder::Zyx => extract_axes::<2, 1, 0>(m, p, gimbal_last),
+    }
+}
+
+/// [`extract`] for the order with axes `I, J, K` and parity `p`.
+#[inline(always)]
+fn extract_axes<const I: usize, const J: usize, const K: usize>(m: &DMat3, p: f64, gimbal_last: f64) -> DVec3 {
+    let (m_ii, m_ji, m_ki) = (at(m, I, I), at(m, J, I), at(m, K, I));
     // Entries of a rotation matrix are at most 1 in magnitude: a plain square root is exact
     // enough (no overflow to guard against) and much cheaper than `hypot`.
     let cos_b = (m_ii * m_ii + m_ji * m_ji).sqrt();
@@ -233,20 +247,20 @@ fn extract(m: &DMat3, order: RotateOrder, gimbal_last: f64) -> DVec3 {
         (1.0, 0.0)
     };
     // Column j of N = Rj(-b)·Rk(-c)·M; a is read from its entries j and k.
-    let col_j = m.col(j);
-    let n_j = rotate_about(rotate_about(col_j, k, cc, -sc), j, cb, -sb);
-    let a = (p * n_j[k]).atan2(n_j[j]);
+    let col_j = m.col(J);
+    let n_j = rotate_about::<J>(rotate_about::<K>(col_j, cc, -sc), cb, -sb);
+    let a = (p * n_j[K]).atan2(n_j[J]);
     let mut out = DVec3::ZERO;
-    out[i] = a;
-    out[j] = b;
-    out[k] = c;
+    out[I] = a;
+    out[J] = b;
+    out[K] = c;
     finite_or_zero(out)
 }
 
-/// `v` rotated about coordinate axis `axis` by the angle with cosine `c` and sine `s`.
-#[inline]
-fn rotate_about(v: DVec3, axis: usize, c: f64, s: f64) -> DVec3 {
-    let (e1, e2) = ((axis + 1) % 3, (axis + 2) % 3);
+/// `v` rotated about coordinate axis `AXIS` by the angle with cosine `c` and sine `s`.
+#[inline(always)]
+fn rotate_about<const AXIS: usize>(v: DVec3, c: f64, s: f64) -> DVec3 {
+    let (e1, e2) = ((AXIS + 1) % 3, (AXIS + 2) % 3);
     let mut out = v;
     out[e1] = c * v[e1] - s * v[e2];
     out[e2] = s * v[e1] + c * v[e2];
