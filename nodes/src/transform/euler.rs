@@ -138,6 +138,7 @@ pub(crate) fn sanitize_quat(q: DQuat) -> DQuat {
 }
 
 /// Rotation matrix about coordinate axis `axis` (0 = X, 1 = Y, 2 = Z).
+#[inline(always)]
 fn axis_mat3(axis: usize, angle: f64) -> DMat3 {
     match axis {
         0 => DMat3::from_rotation_x(angle),
@@ -181,9 +182,23 @@ pub fn euler_to_quat(r: DVec3, order: RotateOrder) -> DQuat {
 /// single-axis and zero rotations cost no trigonometry or products for the missing axes.
 pub fn euler_to_mat3(r: DVec3, order: RotateOrder) -> DMat3 {
     let r = finite_or_zero(r);
-    let [i, j, k] = order.axes();
+    // One instantiation per order (constant axes), as in `extract`.
+    match order {
+        RotateOrder::Xyz => euler_to_mat3_axes::<0, 1, 2>(r),
+        RotateOrder::Yzx => euler_to_mat3_axes::<1, 2, 0>(r),
+        RotateOrder::Zxy => euler_to_mat3_axes::<2, 0, 1>(r),
+        RotateOrder::Xzy => euler_to_mat3_axes::<0, 2, 1>(r),
+        RotateOrder::Yxz => euler_to_mat3_axes::<1, 0, 2>(r),
+        RotateOrder::Zyx => euler_to_mat3_axes::<2, 1, 0>(r),
+    }
+}
+
+/// [`euler_to_mat3`] of finite angles for the order with axes `I, J, K`:
+/// `Rk · Rj · Ri`, skipping the axes whose angle is exactly 0.
+#[inline(always)]
+fn euler_to_mat3_axes<const I: usize, const J: usize, const K: usize>(r: DVec3) -> DMat3 {
     let mut m: Option<DMat3> = None;
-    for axis in [k, j, i] {
+    for axis in [K, J, I] {
         if r[axis] != 0.0 {
             let a = axis_mat3(axis, r[axis]);
             m = Some(m.map_or(a, |m| m * a));
