@@ -231,14 +231,20 @@ impl<'a> ComputeContext<'a> {
                 } else {
                     self.tables.elems.get(b.first as usize + k)?.binding
                 };
-                // Typed reads: no `Value` is built for a whole slot, one float or a vec3.
-                match binding {
-                    Binding::Slot(s) => T::from_value(self.slots.get(s as usize)?),
-                    Binding::Component(s, c) => T::from_value(&Value::Float(lane(self.slots, s, Some(c)))),
-                    Binding::Assemble(x) => {
-                        T::from_value(&Value::Vec3(self.tables.assemblies.get(x as usize)?.read(self.slots)))
-                    }
-                }
+                self.read_binding(binding)
+            }
+        }
+    }
+
+    /// A compiled binding's value, typed: no `Value` is built for a whole slot, one float
+    /// or a vec3.
+    #[inline]
+    fn read_binding<T: AttrValue>(&self, binding: Binding) -> Option<T> {
+        match binding {
+            Binding::Slot(s) => T::from_value(self.slots.get(s as usize)?),
+            Binding::Component(s, c) => T::from_value(&Value::Float(lane(self.slots, s, Some(c)))),
+            Binding::Assemble(x) => {
+                T::from_value(&Value::Vec3(self.tables.assemblies.get(x as usize)?.read(self.slots)))
             }
         }
     }
@@ -322,6 +328,16 @@ impl<'a> ComputeContext<'a> {
     /// The `k`-th existing element of a multi input (in index order) as
     /// `(logical index, value)`; `None` past the end.
     pub fn multi_at<T: AttrValue>(&self, h: MultiInput<T>, k: usize) -> Option<(u32, T)> {
+        if self.lazy.is_none() {
+            // Compiled: one lookup of the element gives both its index and its binding.
+            let b = self.attrs.get(h.id().index())?;
+            if k >= b.len as usize {
+                return None;
+            }
+            let e = self.tables.elems.get(b.first as usize + k)?;
+            let v = self.read_binding(e.binding).unwrap_or_else(|| self.fallback(h.id()));
+            return Some((e.index, v));
+        }
         let idx = self.elem_index(h.id(), k)?;
         let v = self.read_with(h.id(), k).unwrap_or_else(|| self.fallback(h.id()));
         Some((idx, v))
