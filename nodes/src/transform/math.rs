@@ -90,7 +90,11 @@ pub fn world_matrix(local: DMat4, parent_world: DMat4) -> DMat4 {
 /// equals `a * b` (up to the sign of zero entries); projective matrices take the full product.
 #[inline]
 pub fn mul_affine(a: &DMat4, b: &DMat4) -> DMat4 {
-    let affine = |m: &DMat4| m.x_axis.w == 0.0 && m.y_axis.w == 0.0 && m.z_axis.w == 0.0 && m.w_axis.w == 1.0;
+    // Last row exactly `±0 ±0 ±0 1`: the three zeros tested at once (bits without the sign).
+    let affine = |m: &DMat4| {
+        ((m.x_axis.w.to_bits() | m.y_axis.w.to_bits() | m.z_axis.w.to_bits()) << 1) == 0
+            && m.w_axis.w.to_bits() == 1f64.to_bits()
+    };
     if !(affine(a) && affine(b)) {
         return *a * *b;
     }
@@ -344,6 +348,35 @@ mod tests {
 
     fn close(a: DVec3, b: DVec3, tol: f64) -> bool {
         (a - b).abs().max_element() <= tol
+    }
+
+    /// Bit patterns of a matrix's entries (so `-0.0` and NaNs compare exactly).
+    fn bits(m: DMat4) -> [u64; 16] {
+        m.to_cols_array().map(f64::to_bits)
+    }
+
+    #[test]
+    fn mul_affine_takes_the_full_product_unless_both_last_rows_are_0001() {
+        let a = DMat4::from_scale_rotation_translation(
+            DVec3::new(1.5, 0.5, 2.0),
+            DQuat::from_rotation_y(0.3),
+            DVec3::new(1.0, -2.0, 3.0),
+        );
+        let b = DMat4::from_rotation_translation(DQuat::from_rotation_x(-1.1), DVec3::new(0.25, 4.0, -1.0));
+        // Affine: every entry equals glam's 4x4 product (values; zeros may differ in sign).
+        assert_eq!(mul_affine(&a, &b).to_cols_array(), (a * b).to_cols_array());
+        // A last row of signed zeros and 1 is still affine.
+        let mut neg = b;
+        neg.x_axis.w = -0.0;
+        neg.z_axis.w = -0.0;
+        assert_eq!(mul_affine(&a, &neg).to_cols_array(), (a * b).to_cols_array());
+        // Projective (or NaN) last rows take glam's product, bit for bit.
+        for (k, v) in [(0, 0.5), (3, 2.0), (1, f64::NAN)] {
+            let mut p = b;
+            p.col_mut(k).w = v;
+            assert_eq!(bits(mul_affine(&a, &p)), bits(a * p), "column {k} w = {v}");
+            assert_eq!(bits(mul_affine(&p, &a)), bits(p * a), "column {k} w = {v}");
+        }
     }
 
     fn mat_close(a: DMat4, b: DMat4, rel: f64) -> bool {
