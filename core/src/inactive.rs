@@ -112,6 +112,8 @@ struct Walk<'a, 'b> {
     eval: Vec<Eval>,
     position: Vec<u32>,
     scratch: Vec<Value>,
+    /// Per step: visited by the current `ensure` (cleared after each call).
+    seen: Vec<bool>,
 }
 
 impl Walk<'_, '_> {
@@ -129,13 +131,17 @@ impl Walk<'_, '_> {
             return;
         }
         let mut todo = Vec::new();
-        let mut seen = vec![false; self.eval.len()];
         let mut stack = vec![d];
         while let Some(x) = stack.pop() {
-            if self.eval[x as usize] == Eval::NotYet && !std::mem::replace(&mut seen[x as usize], true) {
+            if self.eval[x as usize] == Eval::NotYet && !std::mem::replace(&mut self.seen[x as usize], true) {
                 todo.push(x);
                 stack.extend(self.deps[x as usize].iter().copied());
             }
+        }
+        // Only the steps visited were marked: clearing them keeps each call proportional to
+        // what it evaluates, not to the program's size.
+        for &x in &todo {
+            self.seen[x as usize] = false;
         }
         todo.sort_unstable_by_key(|&x| self.position[x as usize]);
         for x in todo {
@@ -238,6 +244,7 @@ pub(crate) fn analyse(a: &Analysis<'_>) -> Option<Selective> {
         eval: vec![Eval::NotYet; n],
         position: vec![u32::MAX; n],
         scratch: a.initial.to_vec(),
+        seen: vec![false; n],
     };
     for (k, &i) in a.order.iter().enumerate() {
         w.position[i as usize] = k as u32;
