@@ -40,6 +40,9 @@ pub(crate) enum Binding {
 pub(crate) struct ElemBinding {
     pub index: u32,
     pub binding: Binding,
+    /// The element is an input connected as a whole: it reads its source, so a handle to
+    /// it cannot set it (even when the source is an input's own slot).
+    pub driven: bool,
 }
 
 /// Where one attribute of one step's node lives: its elements in
@@ -385,7 +388,7 @@ impl Program {
         };
         let settable = if a.direction == Direction::Input {
             match (eb.binding, comp) {
-                (Binding::Slot(s), c) if self.slot_is_own_input(s) => Some((s, c)),
+                (Binding::Slot(s), c) if !eb.driven && self.slot_is_own_input(s) => Some((s, c)),
                 (Binding::Assemble(x), Some(k)) => {
                     let asm = self.tables.assemblies[x as usize];
                     asm.comps[k as usize].is_none().then_some((asm.own, Some(k)))

@@ -9,7 +9,7 @@
 //! payload  node types   name, attribute count, group count, spec fingerprint (u64)
 //!          nodes        name, type index, attribute base
 //!          attributes   first element, element count   (head binding and group are derived)
-//!          elements     index, binding
+//!          elements     index, binding, driven flag (connected as a whole)
 //!          assemblies   own slot, three optional component sources
 //!          shared data  heavy values (strings, meshes, weights, curves, arrays), each stored once
 //!          slots        initial values (small values inline, common constants as one byte, heavy by index)
@@ -344,6 +344,7 @@ impl Program {
         for e in &self.tables.elems {
             w.varint(e.index as u64);
             w.binding(e.binding);
+            w.u8(e.driven as u8);
         }
         w.varint(self.tables.assemblies.len() as u64);
         for a in &self.tables.assemblies {
@@ -767,12 +768,17 @@ fn decode_payload(payload: &[u8], registry: &Registry) -> Result<Program> {
             ..AttrBinding::default()
         });
     }
-    let n = r.count(3, "elements")?;
+    let n = r.count(4, "elements")?;
     let mut elems = Vec::with_capacity(n);
     for _ in 0..n {
         let index = r.u32v("element index")?;
         let binding = r.binding()?;
-        elems.push(ElemBinding { index, binding });
+        let driven = match r.u8("element driven flag")? {
+            0 => false,
+            1 => true,
+            t => return Err(r.fail(&format!("bad element driven flag {t}"))),
+        };
+        elems.push(ElemBinding { index, binding, driven });
     }
     let n = r.count(4, "assemblies")?;
     let mut assemblies = Vec::with_capacity(n);

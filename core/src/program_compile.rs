@@ -150,6 +150,7 @@ impl<'g> Compiler<'g> {
                     elems.push(ElemBinding {
                         index: e.index,
                         binding,
+                        driven: e.source.is_some(),
                     });
                 }
                 let ab = &mut attr_bindings[(self.attr_base[ni] + a as u32) as usize];

@@ -363,3 +363,28 @@ fn a_new_output_element_keeps_everything_below_its_node_dirty() {
     g.set_path("s.input[0]", Value::Float(-8.0)).unwrap();
     assert_eq!(f(g.get_path("below.output").unwrap()), -8.0);
 }
+
+/// An input connected from another input reads that input's slot; its handle must still
+/// refuse `set` (as `Graph::set` does), not write the source through it.
+#[test]
+fn a_handle_to_an_input_driven_by_another_input_cannot_be_set() {
+    let mut g = graph();
+    g.add_node("add", "src").unwrap();
+    g.add_node("add", "dst").unwrap();
+    g.set_path("src.input1", Value::Float(2.0)).unwrap();
+    g.connect_path("src.input1", "dst.input1").unwrap();
+    let program = Arc::new(Program::compile(&g, &CompileOptions::default()).unwrap());
+    let mut inst = Instance::new(program.clone());
+    let driven = program.handle("dst.input1").unwrap();
+    assert!(inst.set(&driven, Value::Float(5.0)).is_err());
+    let own = program.handle("src.input1").unwrap();
+    inst.set(&own, Value::Float(5.0)).unwrap();
+    inst.evaluate(Time::default()).unwrap();
+    // dst = src.input1 + 0 = 5 through the connection.
+    assert_eq!(inst.get_typed::<f64>(&program.handle("dst.output").unwrap()), Some(5.0));
+    // The binary form keeps the distinction.
+    let loaded = Program::from_bytes(&program.to_bytes(), &testing::registry().unwrap()).unwrap();
+    let mut inst = Instance::new(Arc::new(loaded));
+    let driven = inst.program().handle("dst.input1").unwrap();
+    assert!(inst.set(&driven, Value::Float(5.0)).is_err());
+}
