@@ -7,7 +7,7 @@ use std::sync::Arc;
 use proptest::prelude::*;
 use sinew_core::{testing, AttrType, CompileOptions, Direction, Graph, Instance, Plug, Program, Time, Value};
 
-const TYPES: [&str; 7] = [
+const TYPES: [&str; 8] = [
     "add",
     "clampPositive",
     "twoGroups",
@@ -15,6 +15,7 @@ const TYPES: [&str; 7] = [
     "sumMulti",
     "timeSource",
     "cachedRamp",
+    "pick",
 ];
 
 #[derive(Clone, Debug)]
@@ -137,6 +138,7 @@ fn apply(g: &mut Graph, op: &Op, counter: &mut usize) {
             };
             let v = match g.plug_type(p).expect("plug type") {
                 AttrType::Float => Value::Float(value),
+                AttrType::Bool => Value::Bool(value > 0.0),
                 AttrType::Vec3 => Value::Vec3(glam::DVec3::new(value, -value, value * 0.5)),
                 _ => return,
             };
@@ -203,5 +205,58 @@ proptest! {
                 }
             }
         }
+        check_pruned_with_selectors(&mut g)?;
     }
+}
+
+/// Compiled for the `pick` nodes' outputs only (so their unread branches are left out while
+/// `select` keeps its value), then with every `select` flipped on the instance (the guards
+/// fail: the general schedule runs): each time the picks equal the lazy graph's.
+fn check_pruned_with_selectors(g: &mut Graph) -> Result<(), TestCaseError> {
+    let picks: Vec<String> = g
+        .nodes()
+        .into_iter()
+        .filter(|&id| g.node_type(id) == Some("pick"))
+        .filter_map(|id| g.node_name(id).map(str::to_string))
+        .collect();
+    if picks.is_empty() {
+        return Ok(());
+    }
+    let outputs: Vec<String> = picks.iter().map(|p| format!("{p}.output")).collect();
+    let observed = outputs.iter().map(|o| g.plug(o).expect("plug")).collect();
+    let options = CompileOptions {
+        observed: Some(observed),
+        ..Default::default()
+    };
+    let program = Arc::new(Program::compile(g, &options).expect("compile pruned"));
+    let mut inst = Instance::new(program.clone());
+    for round in 0..2 {
+        if round == 1 {
+            for p in &picks {
+                let path = format!("{p}.select");
+                let Ok(h) = program.handle(&path) else { continue };
+                let Some(now) = inst.get_typed::<bool>(&h) else {
+                    continue;
+                };
+                // Only an unconnected select can be set (lazily and on the instance).
+                if inst.set(&h, Value::Bool(!now)).is_ok() {
+                    g.set_path(&path, Value::Bool(!now)).expect("set select");
+                }
+            }
+        }
+        // A pruned program may skip a failing node in an unread branch, which the lazy graph
+        // still evaluates; values are compared wherever both evaluations succeed.
+        if inst.evaluate(g.time()).is_err() {
+            return Ok(());
+        }
+        for o in &outputs {
+            let Ok(lazy) = g.get_path(o) else { continue };
+            let compiled = inst.get(&program.handle(o).expect("handle"));
+            prop_assert!(
+                lazy.same_bits(&compiled),
+                "round {round}, {o}: lazy {lazy} != compiled {compiled}"
+            );
+        }
+    }
+    Ok(())
 }
