@@ -16,6 +16,7 @@ pub mod node;
 pub mod path;
 pub mod program;
 pub mod program_bin;
+mod program_codec;
 mod program_compile;
 pub mod registry;
 pub mod rig;
