@@ -59,7 +59,7 @@ impl ScalarOp {
 
 /// A node's whole compute as `output = op(inputs...)` over floats.
 ///
-/// Return it from [`NodeType::scalar_kernel`](crate::NodeType::scalar_kernel)
+/// Return it from [`NodeType::scalar_kernel`]
 /// and implement `compute` as [`ScalarKernel::compute`]. The node must have a
 /// single compute group (all inputs affect the output); when it does not, or
 /// when a handle does not belong to the node's spec, the compiled program

@@ -67,7 +67,7 @@ pub struct SkinInput<'a> {
     pub positions: &'a [Vec3],
     /// Rest normals, one per vertex, or empty to skip normals.
     pub normals: &'a [Vec3],
-    /// Skin weights covering exactly the vertices of `positions`: raw [`Weights`]
+    /// Skin weights covering exactly the vertices of `positions`: raw [`Weights`](sinew_core::Weights)
     /// (`(&w).into()`), or [`PreparedWeights`] checked once when they changed.
     pub weights: SkinWeights<'a>,
     /// Skinning matrices `jointWorld × bindPreMatrix`, indexed by the weights' joint indices.
