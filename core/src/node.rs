@@ -12,7 +12,7 @@ use crate::error::ComputeError;
 use crate::graph::store::AttrStore;
 pub use crate::inactive::KnownInputs;
 use crate::kernel::ScalarKernel;
-use crate::program::{lane, AttrBinding, Binding, CompiledTables};
+use crate::program::{AttrBinding, Binding, CompiledTables, ElemBinding};
 use crate::spec::{AttrId, Input, MultiInput, MultiOutput, NodeSpec, Output};
 use crate::value::{AttrValue, SharedData, Value};
 
@@ -187,15 +187,18 @@ impl<'a> ComputeContext<'a> {
     fn read_elem(&self, id: AttrId, k: usize) -> Option<Value> {
         match &self.lazy {
             Some(io) => io.attrs.get(id.index())?.elems.get(k).map(|e| e.value.clone()),
-            None => {
-                let b = self.attrs.get(id.index())?;
-                if k >= b.len as usize {
-                    return None;
-                }
-                let e = self.tables.elems.get(b.first as usize + k)?;
-                Some(self.tables.resolve(self.slots, e.binding))
-            }
+            None => Some(self.tables.resolve(self.slots, self.compiled_elem(id, k)?.binding)),
         }
+    }
+
+    /// The compiled binding of element `k` of an attribute (`None` past its end).
+    #[inline]
+    fn compiled_elem(&self, id: AttrId, k: usize) -> Option<&'a ElemBinding> {
+        let b = self.attrs.get(id.index())?;
+        if k >= b.len as usize {
+            return None;
+        }
+        self.tables.elems.get(b.first as usize + k)
     }
 
     /// Reads element `k` of an attribute: a plain compiled slot inline, everything else out of line.
@@ -221,31 +224,7 @@ impl<'a> ComputeContext<'a> {
                 .elems
                 .get(k)
                 .and_then(|e| T::from_value(&e.value)),
-            None => {
-                let b = self.attrs.get(id.index())?;
-                if k >= b.len as usize {
-                    return None;
-                }
-                let binding = if k == 0 {
-                    b.head
-                } else {
-                    self.tables.elems.get(b.first as usize + k)?.binding
-                };
-                self.read_binding(binding)
-            }
-        }
-    }
-
-    /// A compiled binding's value, typed: no `Value` is built for a whole slot, one float
-    /// or a vec3.
-    #[inline]
-    fn read_binding<T: AttrValue>(&self, binding: Binding) -> Option<T> {
-        match binding {
-            Binding::Slot(s) => T::from_value(self.slots.get(s as usize)?),
-            Binding::Component(s, c) => T::from_value(&Value::Float(lane(self.slots, s, Some(c)))),
-            Binding::Assemble(x) => {
-                T::from_value(&Value::Vec3(self.tables.assemblies.get(x as usize)?.read(self.slots)))
-            }
+            None => self.tables.read(self.slots, self.compiled_elem(id, k)?.binding),
         }
     }
 
@@ -261,9 +240,6 @@ impl<'a> ComputeContext<'a> {
         self.read_with(h.id(), 0).unwrap_or_else(|| self.fallback(h.id()))
     }
 
-    /// Reads an output of another compute group of this node that the
-    /// current group declared it depends on (`affects(&[that_output], ...)`),
-    /// e.g. a precomputed curve in an `Object` output.
     /// Calls `f` with input `h`'s value by reference when it lives whole in a slot (no
     /// copy), else with a copy: for large values (matrices) on hot paths.
     #[inline]
@@ -290,6 +266,9 @@ impl<'a> ComputeContext<'a> {
         T::as_ref(self.slots.get(b.slot as usize)?)
     }
 
+    /// Reads an output of another compute group of this node that the
+    /// current group declared it depends on (`affects(&[that_output], ...)`),
+    /// e.g. a precomputed curve in an `Object` output.
     #[inline]
     pub fn get_output<T: AttrValue>(&self, h: Output<T>) -> T {
         self.read_with(h.id(), 0).unwrap_or_else(|| self.fallback(h.id()))
@@ -315,13 +294,7 @@ impl<'a> ComputeContext<'a> {
     fn elem_index(&self, id: AttrId, k: usize) -> Option<u32> {
         match &self.lazy {
             Some(io) => io.attrs.get(id.index())?.elems.get(k).map(|e| e.index),
-            None => {
-                let b = self.attrs.get(id.index())?;
-                if k >= b.len as usize {
-                    return None;
-                }
-                self.tables.elems.get(b.first as usize + k).map(|e| e.index)
-            }
+            None => self.compiled_elem(id, k).map(|e| e.index),
         }
     }
 
@@ -330,12 +303,11 @@ impl<'a> ComputeContext<'a> {
     pub fn multi_at<T: AttrValue>(&self, h: MultiInput<T>, k: usize) -> Option<(u32, T)> {
         if self.lazy.is_none() {
             // Compiled: one lookup of the element gives both its index and its binding.
-            let b = self.attrs.get(h.id().index())?;
-            if k >= b.len as usize {
-                return None;
-            }
-            let e = self.tables.elems.get(b.first as usize + k)?;
-            let v = self.read_binding(e.binding).unwrap_or_else(|| self.fallback(h.id()));
+            let e = self.compiled_elem(h.id(), k)?;
+            let v = self
+                .tables
+                .read(self.slots, e.binding)
+                .unwrap_or_else(|| self.fallback(h.id()));
             return Some((e.index, v));
         }
         let idx = self.elem_index(h.id(), k)?;

@@ -105,7 +105,7 @@ impl CompiledTables {
 
 /// One float read from a slot: lane `comp` of a vec3 slot, or a number slot as a float.
 #[inline]
-pub(crate) fn lane(slots: &[Value], slot: u32, comp: Option<u8>) -> f64 {
+fn lane(slots: &[Value], slot: u32, comp: Option<u8>) -> f64 {
     match (slots.get(slot as usize), comp) {
         (Some(Value::Vec3(v)), Some(0)) => v.x,
         (Some(Value::Vec3(v)), Some(1)) => v.y,
@@ -125,6 +125,17 @@ impl CompiledTables {
                 Some(asm) => Value::Vec3(asm.read(slots)),
                 None => Value::Float(0.0),
             },
+        }
+    }
+
+    /// The value a binding reads, typed: no `Value` is built for a whole slot, one float or
+    /// a vec3. `None` when the slot holds another type.
+    #[inline]
+    pub(crate) fn read<T: AttrValue>(&self, slots: &[Value], b: Binding) -> Option<T> {
+        match b {
+            Binding::Slot(s) => T::from_value(slots.get(s as usize)?),
+            Binding::Component(s, c) => T::from_value(&Value::Float(lane(slots, s, Some(c)))),
+            Binding::Assemble(x) => T::from_value(&Value::Vec3(self.assemblies.get(x as usize)?.read(slots))),
         }
     }
 }
@@ -505,10 +516,7 @@ impl Instance {
 
     /// Reads a typed value (`None` when the handle's type differs).
     pub fn get_typed<T: AttrValue>(&self, h: &PlugHandle) -> Option<T> {
-        match h.binding {
-            Binding::Slot(s) => self.slots.get(s as usize).and_then(T::from_value),
-            b => T::from_value(&self.program.tables.resolve(&self.slots, b)),
-        }
+        self.program.tables.read(&self.slots, h.binding)
     }
 
     /// Evaluates the program at `time`: the whole program on the first call
