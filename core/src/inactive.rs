@@ -171,14 +171,9 @@ impl Walk<'_, '_> {
 
     /// The slots a binding reads.
     fn slots_of(&self, b: Binding) -> Vec<u32> {
-        match b {
-            Binding::Slot(s) | Binding::Component(s, _) => vec![s],
-            Binding::Assemble(x) => self.a.tables.assemblies.get(x as usize).map_or(Vec::new(), |asm| {
-                std::iter::once(asm.own)
-                    .chain(asm.comps.iter().flatten().map(|c| c.0))
-                    .collect()
-            }),
-        }
+        let mut out = Vec::new();
+        self.a.tables.slots_read(b, &mut out);
+        out
     }
 
     /// The known value of input `attr` of step `i`: a small value every slot of which is known.

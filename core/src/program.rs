@@ -128,6 +128,19 @@ impl CompiledTables {
         }
     }
 
+    /// Appends the slots a binding reads to `out` (an assembly: its own slot and its sources).
+    pub(crate) fn slots_read(&self, b: Binding, out: &mut Vec<u32>) {
+        match b {
+            Binding::Slot(s) | Binding::Component(s, _) => out.push(s),
+            Binding::Assemble(x) => {
+                if let Some(asm) = self.assemblies.get(x as usize) {
+                    out.push(asm.own);
+                    out.extend(asm.comps.iter().flatten().map(|c| c.0));
+                }
+            }
+        }
+    }
+
     /// The value a binding reads, typed: no `Value` is built for a whole slot, one float or
     /// a vec3. `None` when the slot holds another type.
     #[inline]

@@ -183,14 +183,6 @@ impl<'g> Compiler<'g> {
                 ));
             }
         }
-        let slot_reads = |b: Binding, out: &mut Vec<u32>| match b {
-            Binding::Slot(s) | Binding::Component(s, _) => out.push(s),
-            Binding::Assemble(x) => {
-                let asm = tables.assemblies[x as usize];
-                out.push(asm.own);
-                out.extend(asm.comps.iter().flatten().map(|c| c.0));
-            }
-        };
         let mut dynamic_slot = vec![false; self.initial.len()];
         for p in &options.dynamic_inputs {
             let key = (p.node, p.attr, p.elem());
@@ -215,7 +207,7 @@ impl<'g> Compiler<'g> {
                 let ab = attr_bindings[(step.attr_base + a.0 as u32) as usize];
                 for eb in &tables.elems[ab.first as usize..(ab.first + ab.len) as usize] {
                     buf.clear();
-                    slot_reads(eb.binding, &mut buf);
+                    tables.slots_read(eb.binding, &mut buf);
                     for &s in &buf {
                         reads[si].push((a, s));
                         if dynamic_slot[s as usize] {
@@ -270,7 +262,7 @@ impl<'g> Compiler<'g> {
             for p in observed {
                 let b = self.binding_of(*p, 0)?;
                 let mut reads = Vec::new();
-                slot_reads(b, &mut reads);
+                tables.slots_read(b, &mut reads);
                 for s in reads {
                     if let Some(prod) = self.output_slot_producer[s as usize] {
                         if let Some(&d) = step_of.get(&prod) {
