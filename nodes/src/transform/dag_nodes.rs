@@ -177,25 +177,26 @@ impl Common {
         }
     }
 
-    /// `parentMatrix * offsetParentMatrix`, skipping the product when the offset is exactly
-    /// the identity (its default; compared bit for bit, which is a few vector compares
-    /// instead of sixteen float comparisons).
-    fn parent_world(&self, ctx: &ComputeContext<'_>) -> DMat4 {
-        let parent = ctx.get(self.parent_matrix);
-        let offset = ctx.get(self.offset_parent_matrix);
-        if is_identity_bits(&offset) {
-            parent
-        } else {
-            mul_affine(&parent, &offset)
-        }
+    /// Calls `f` with `parentMatrix * offsetParentMatrix`, read by reference and skipping
+    /// the product when the offset is exactly the identity (its default; compared bit for bit).
+    fn with_parent_world<R>(&self, ctx: &ComputeContext<'_>, f: impl FnOnce(&DMat4) -> R) -> R {
+        ctx.with_ref(self.parent_matrix, |parent| {
+            ctx.with_ref(self.offset_parent_matrix, |offset| {
+                if is_identity_bits(offset) {
+                    f(parent)
+                } else {
+                    f(&mul_affine(parent, offset))
+                }
+            })
+        })
     }
 
     /// Computes whichever group `ctx` asks for; `local` builds the local
     /// matrix (only called when a group that depends on it is computed).
     fn compute(&self, ctx: &mut ComputeContext<'_>, local: impl FnOnce(&ComputeContext<'_>) -> DMat4) {
         if ctx.wants(self.parent_inverse_matrix) {
-            let pm = self.parent_world(ctx);
-            ctx.set(self.parent_inverse_matrix, inverse_or_identity(pm));
+            let pi = self.with_parent_world(ctx, |pm| inverse_or_identity(*pm));
+            ctx.set(self.parent_inverse_matrix, pi);
         }
         if ctx.wants(self.matrix) {
             let m = local(ctx);
@@ -207,17 +208,7 @@ impl Common {
         }
         if ctx.wants(self.world_matrix) {
             // By reference: three matrices are read and one written on every frame.
-            let w = ctx.with_ref(self.parent_matrix, |parent| {
-                ctx.with_ref(self.offset_parent_matrix, |offset| {
-                    ctx.with_output_ref(self.matrix, |m| {
-                        if is_identity_bits(offset) {
-                            mul_affine(parent, m)
-                        } else {
-                            mul_affine(&mul_affine(parent, offset), m)
-                        }
-                    })
-                })
-            });
+            let w = self.with_parent_world(ctx, |pm| ctx.with_output_ref(self.matrix, |m| mul_affine(pm, m)));
             ctx.set(self.world_matrix, w);
         }
         if ctx.wants(self.world_inverse_matrix) {
