@@ -13,7 +13,7 @@ use sinew_core::{AttrId, ComputeContext, Input, MultiInput, SpecBuilder, Unit};
 use crate::ik::EulerMemo;
 use crate::transform::euler::sanitize_quat;
 use crate::transform::math::{
-    euler_to_quat, orthonormalize, quat_blend_weighted, rotate_for_orientation_quats, slerp_shortest,
+    euler_to_quat, is_identity_bits, orthonormalize, quat_blend_weighted, rotate_for_orientation_quats, slerp_shortest,
     to_translate_rotate_scale, RotateOrder,
 };
 
@@ -124,7 +124,7 @@ impl Targets {
                 continue;
             }
             let world = match ctx.get_at(self.offset, i) {
-                Some(o) if o != DMat4::IDENTITY => m * o,
+                Some(o) if !is_identity_bits(&o) => m * o,
                 _ => m,
             };
             if world.is_finite() {

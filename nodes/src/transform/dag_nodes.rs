@@ -30,7 +30,7 @@ use sinew_core::{
 };
 
 use super::euler::RotateOrder;
-use super::math::{mul_affine, JointParams, TransformParams};
+use super::math::{is_identity_bits, mul_affine, JointParams, TransformParams};
 use super::matrix_nodes::inverse_or_identity;
 
 /// Maya's `rotateOrder` choices, in enum-index order.
@@ -218,17 +218,6 @@ impl Common {
     }
 }
 
-/// Whether `m` is bit for bit [`DMat4::IDENTITY`] (so `-0.0` entries count as different).
-#[inline]
-fn is_identity_bits(m: &DMat4) -> bool {
-    let (a, id) = (m.to_cols_array(), DMat4::IDENTITY.to_cols_array());
-    // One pass of xor/or instead of sixteen compare-and-branch steps.
-    a.iter()
-        .zip(&id)
-        .fold(0, |diff, (x, y)| diff | (x.to_bits() ^ y.to_bits()))
-        == 0
-}
-
 /// Maya's `transform` node: `matrix` is
 /// `SP⁻¹·S·SH·SP·ST·RP⁻¹·RA·R·RP·RT·T` (row vectors; see
 /// [`TransformParams::local_matrix`]).
@@ -407,26 +396,5 @@ impl NodeType for Joint {
     fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
         self.common.compute(ctx, |ctx| self.params(ctx).local_matrix());
         Ok(())
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn identity_bits_only_for_the_exact_identity() {
-        assert!(is_identity_bits(&DMat4::IDENTITY));
-        let mut a = DMat4::IDENTITY.to_cols_array();
-        a[1] = -0.0;
-        assert!(
-            !is_identity_bits(&DMat4::from_cols_array(&a)),
-            "-0.0 is not +0.0 bit for bit"
-        );
-        let mut b = DMat4::IDENTITY.to_cols_array();
-        b[15] = 1.0 + f64::EPSILON;
-        assert!(!is_identity_bits(&DMat4::from_cols_array(&b)));
-        assert!(!is_identity_bits(&DMat4::from_cols_array(&[f64::NAN; 16])));
-        assert!(!is_identity_bits(&DMat4::from_translation(glam::DVec3::X)));
     }
 }

@@ -113,6 +113,17 @@ pub fn mul_affine(a: &DMat4, b: &DMat4) -> DMat4 {
     )
 }
 
+/// Whether `m` is bit for bit [`DMat4::IDENTITY`] (so `-0.0` entries count as different).
+#[inline]
+pub fn is_identity_bits(m: &DMat4) -> bool {
+    let (a, id) = (m.to_cols_array(), DMat4::IDENTITY.to_cols_array());
+    // One pass of xor/or instead of sixteen compare-and-branch steps.
+    a.iter()
+        .zip(&id)
+        .fold(0, |diff, (x, y)| diff | (x.to_bits() ^ y.to_bits()))
+        == 0
+}
+
 /// Attribute values of a Maya `transform` node that shape its local matrix.
 ///
 /// Angles in radians. [`Default`] is the identity transform.
@@ -353,6 +364,22 @@ mod tests {
     /// Bit patterns of a matrix's entries (so `-0.0` and NaNs compare exactly).
     fn bits(m: DMat4) -> [u64; 16] {
         m.to_cols_array().map(f64::to_bits)
+    }
+
+    #[test]
+    fn identity_bits_only_for_the_exact_identity() {
+        assert!(is_identity_bits(&DMat4::IDENTITY));
+        let mut a = DMat4::IDENTITY.to_cols_array();
+        a[1] = -0.0;
+        assert!(
+            !is_identity_bits(&DMat4::from_cols_array(&a)),
+            "-0.0 is not +0.0 bit for bit"
+        );
+        let mut b = DMat4::IDENTITY.to_cols_array();
+        b[15] = 1.0 + f64::EPSILON;
+        assert!(!is_identity_bits(&DMat4::from_cols_array(&b)));
+        assert!(!is_identity_bits(&DMat4::from_cols_array(&[f64::NAN; 16])));
+        assert!(!is_identity_bits(&DMat4::from_translation(glam::DVec3::X)));
     }
 
     #[test]
