@@ -18,6 +18,7 @@ use std::cell::RefCell;
 
 use crate::node::Time;
 use crate::program::{run_step, AttrBinding, Binding, CompiledTables, Step};
+use crate::slots::{Slots, SlotsRef};
 use crate::spec::{AttrId, Input};
 use crate::value::{AttrValue, Value};
 
@@ -63,7 +64,7 @@ pub(crate) struct Guard {
 
 impl Guard {
     /// Whether `slots` still hold the guarded value (bit for bit).
-    pub(crate) fn holds(&self, tables: &CompiledTables, slots: &[Value]) -> bool {
+    pub(crate) fn holds(&self, tables: &CompiledTables, slots: SlotsRef<'_>) -> bool {
         tables.resolve(slots, self.binding).same_bits(&self.value)
     }
 }
@@ -92,7 +93,7 @@ pub(crate) struct Analysis<'a> {
     pub dynamic_slot: &'a [bool],
     pub attr_bindings: &'a [AttrBinding],
     pub tables: &'a CompiledTables,
-    pub initial: &'a [Value],
+    pub initial: &'a Slots,
     /// Steps read directly by observed plugs; `None`: every step is observed.
     pub seeds: Option<&'a [u32]>,
 }
@@ -111,7 +112,7 @@ struct Walk<'a, 'b> {
     deps: Vec<Vec<u32>>,
     eval: Vec<Eval>,
     position: Vec<u32>,
-    scratch: Vec<Value>,
+    scratch: Slots,
     /// Per step: visited by the current `ensure` (cleared after each call).
     seen: Vec<bool>,
 }
@@ -154,7 +155,7 @@ impl Walk<'_, '_> {
                     &self.a.steps[x as usize],
                     self.a.attr_bindings,
                     self.a.tables,
-                    &mut self.scratch,
+                    self.scratch.view_mut(),
                     Time::default(),
                 )
                 .is_ok();
@@ -182,7 +183,7 @@ impl Walk<'_, '_> {
         if !self.slots_of(b).into_iter().all(|s| self.slot_known(s)) {
             return None;
         }
-        let v = self.a.tables.resolve(&self.scratch, b);
+        let v = self.a.tables.resolve(self.scratch.view(), b);
         matches!(
             v,
             Value::Bool(_)
@@ -238,7 +239,7 @@ pub(crate) fn analyse(a: &Analysis<'_>) -> Option<Selective> {
         deps: vec![Vec::new(); n],
         eval: vec![Eval::NotYet; n],
         position: vec![u32::MAX; n],
-        scratch: a.initial.to_vec(),
+        scratch: a.initial.clone(),
         seen: vec![false; n],
     };
     for (k, &i) in a.order.iter().enumerate() {

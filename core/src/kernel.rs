@@ -11,6 +11,8 @@
 use crate::error::{ComputeError, SpecError};
 use crate::node::{ComputeContext, NodeType};
 use crate::program::{AttrBinding, Binding};
+use crate::slots::{SlotsMut, SlotsRef};
+use crate::tape::Arith;
 use crate::spec::{AttrId, Direction, Input, NodeSpec, Output};
 use crate::value::{AttrType, Value};
 
@@ -231,7 +233,24 @@ impl NodeType for KernelNode {
 /// `x` made finite: NaN becomes 0, infinities saturate at `±f64::MAX` (the convention of
 /// the utility nodes, after Maya's saturating `addDoubleLinear`/`multDoubleLinear`).
 #[inline]
+#[allow(clippy::eq_op)]
 pub fn finite(x: f64) -> f64 {
+    // A finite `x` passes through untouched behind a predictable branch, so the value
+    // itself takes no extra latency (chains of utility nodes are latency-bound).
+    // `x - x` is 0 when `x` is finite and NaN for NaN and the infinities: one float
+    // compare, where `is_finite` becomes integer masking.
+    let d = x - x;
+    if d == d {
+        x
+    } else {
+        non_finite(x)
+    }
+}
+
+/// [`finite`] for NaN and the infinities (out of line: rare).
+#[cold]
+#[inline(never)]
+fn non_finite(x: f64) -> f64 {
     if x.is_nan() {
         0.0
     } else {
@@ -291,50 +310,66 @@ impl KernelStep {
         })
     }
 
-    /// Runs the kernel over `slots`. Returns `false`, having changed nothing,
-    /// when a slot does not hold the expected variant: the caller then runs
+    /// `(arithmetic, input 0's slot, input 1's slot, output slot)` for the two-input
+    /// whole-slot shapes (what a tape runs, see [`crate::tape`]).
+    pub(crate) fn shape(&self) -> Option<(Arith, u32, u32, u32)> {
+        let arith = match self.code {
+            Code::Add => Arith::Add,
+            Code::Sub => Arith::Sub,
+            Code::Mul => Arith::Mul,
+            Code::AddFinite => Arith::AddFinite,
+            Code::MulFinite => Arith::MulFinite,
+            Code::General => return None,
+        };
+        Some((arith, self.inputs[0].slot, self.inputs[1].slot, self.output))
+    }
+
+    /// Runs the kernel over `slots`. Returns `false`, having changed nothing, when a
+    /// slot is not what the binding expects (a whole input or the output outside the
+    /// dense float store, a lane of something other than a vec3): the caller then runs
     /// the node's `compute`, whose fallbacks define the result.
     #[inline(always)]
-    pub(crate) fn run(&self, slots: &mut [Value]) -> bool {
+    pub(crate) fn run(&self, slots: &mut SlotsMut<'_>) -> bool {
         let [i0, i1, ..] = self.inputs;
+        let floats = &mut *slots.floats;
         let r = match self.code {
-            Code::Add => match (slots.get(i0.slot as usize), slots.get(i1.slot as usize)) {
-                (Some(Value::Float(a)), Some(Value::Float(b))) => a + b,
+            Code::Add => match (floats.get(i0.slot as usize), floats.get(i1.slot as usize)) {
+                (Some(a), Some(b)) => a + b,
                 _ => return false,
             },
-            Code::Sub => match (slots.get(i0.slot as usize), slots.get(i1.slot as usize)) {
-                (Some(Value::Float(a)), Some(Value::Float(b))) => a - b,
+            Code::Sub => match (floats.get(i0.slot as usize), floats.get(i1.slot as usize)) {
+                (Some(a), Some(b)) => a - b,
                 _ => return false,
             },
-            Code::Mul => match (slots.get(i0.slot as usize), slots.get(i1.slot as usize)) {
-                (Some(Value::Float(a)), Some(Value::Float(b))) => a * b,
+            Code::Mul => match (floats.get(i0.slot as usize), floats.get(i1.slot as usize)) {
+                (Some(a), Some(b)) => a * b,
                 _ => return false,
             },
-            Code::AddFinite => match (slots.get(i0.slot as usize), slots.get(i1.slot as usize)) {
-                (Some(Value::Float(a)), Some(Value::Float(b))) => finite(a + b),
+            Code::AddFinite => match (floats.get(i0.slot as usize), floats.get(i1.slot as usize)) {
+                (Some(a), Some(b)) => finite(a + b),
                 _ => return false,
             },
-            Code::MulFinite => match (slots.get(i0.slot as usize), slots.get(i1.slot as usize)) {
-                (Some(Value::Float(a)), Some(Value::Float(b))) => finite(a * b),
+            Code::MulFinite => match (floats.get(i0.slot as usize), floats.get(i1.slot as usize)) {
+                (Some(a), Some(b)) => finite(a * b),
                 _ => return false,
             },
-            Code::General => match self.general(slots) {
+            Code::General => match self.general(slots.view()) {
                 Some(r) => r,
                 None => return false,
             },
         };
-        match slots.get_mut(self.output as usize) {
-            Some(Value::Float(o)) => {
+        match slots.floats.get_mut(self.output as usize) {
+            Some(o) => {
                 *o = r;
                 true
             }
-            _ => false,
+            None => false,
         }
     }
 
     /// Reads every input by lane and applies `op` (out of line: the uncommon shapes).
     #[inline(never)]
-    fn general(&self, slots: &[Value]) -> Option<f64> {
+    fn general(&self, slots: SlotsRef<'_>) -> Option<f64> {
         let mut x = [0.0; MAX_KERNEL_INPUTS];
         let n = (self.len as usize).min(MAX_KERNEL_INPUTS);
         for (v, &input) in x[..n].iter_mut().zip(&self.inputs) {
@@ -346,12 +381,12 @@ impl KernelStep {
 
 /// One kernel input's value, or `None` when its slot does not hold what the binding expects.
 #[inline]
-fn read(slots: &[Value], input: KernelInput) -> Option<f64> {
-    match (slots.get(input.slot as usize)?, input.lane) {
-        (Value::Float(f), WHOLE) => Some(*f),
-        (Value::Vec3(v), 0) => Some(v.x),
-        (Value::Vec3(v), 1) => Some(v.y),
-        (Value::Vec3(v), 2) => Some(v.z),
+fn read(slots: SlotsRef<'_>, input: KernelInput) -> Option<f64> {
+    if input.lane == WHOLE {
+        return slots.float(input.slot);
+    }
+    match slots.value(input.slot)? {
+        Value::Vec3(v) if input.lane < 3 => Some(v[input.lane as usize]),
         _ => None,
     }
 }
@@ -362,6 +397,7 @@ mod tests {
 
     use super::*;
     use crate::registry::Registry;
+    use crate::slots::Slots;
     use crate::{testing, CompileOptions, Graph, Instance, Program, Time};
 
     /// `fma3`'s kernel: `output = a * b + c` (a custom op with three inputs).
@@ -450,6 +486,17 @@ mod tests {
     }
 
     #[test]
+    fn finite_keeps_every_finite_bit_pattern_and_saturates_the_rest() {
+        for x in [0.0, -0.0, 1.5, -f64::MAX, f64::MAX, f64::MIN_POSITIVE, 5e-324, -5e-324] {
+            assert_eq!(finite(x).to_bits(), x.to_bits(), "{x:e}");
+        }
+        assert_eq!(finite(f64::NAN).to_bits(), 0.0f64.to_bits());
+        assert_eq!(finite(-f64::NAN).to_bits(), 0.0f64.to_bits());
+        assert_eq!(finite(f64::INFINITY), f64::MAX);
+        assert_eq!(finite(f64::NEG_INFINITY), -f64::MAX);
+    }
+
+    #[test]
     fn saturating_ops_run_straight_line_and_saturate() {
         for (op, code, a, b, want) in [
             (ScalarOp::MulFinite, Code::MulFinite, 1e300, -1e300, -f64::MAX),
@@ -480,18 +527,28 @@ mod tests {
     }
 
     #[test]
-    fn a_mistyped_slot_leaves_the_step_to_compute() {
+    fn a_slot_outside_the_float_store_leaves_the_step_to_compute() {
         let mut g = Graph::new(testing::registry().unwrap());
         g.add_node("add", "a").unwrap();
         let program = Program::compile(&g, &CompileOptions::default()).unwrap();
         let k = program.steps[0].kernel.expect("add has a kernel");
+        assert_eq!(
+            program.initial.floats.len(),
+            3,
+            "the compiler puts the floats in the dense store"
+        );
+        // The same values, every one stored as a `Value` (as a program from an older binary).
+        let mut slots = Slots {
+            floats: Vec::new(),
+            values: program.initial.to_values(),
+        };
+        let before = slots.values.clone();
+        assert!(!k.run(&mut slots.view_mut()));
+        slots.values[k.inputs[0].slot as usize] = Value::Int(3);
+        assert!(!k.run(&mut slots.view_mut()));
+        assert!(slots.values[k.output as usize].same_bits(&before[k.output as usize]));
+        // In the dense store the kernel runs.
         let mut slots = program.initial.clone();
-        let before: Vec<Value> = slots.clone();
-        slots[k.inputs[0].slot as usize] = Value::Int(3);
-        assert!(!k.run(&mut slots));
-        assert!(slots[k.output as usize].same_bits(&before[k.output as usize]));
-        let mut slots = program.initial.clone();
-        slots[k.output as usize] = Value::Bool(true);
-        assert!(!k.run(&mut slots));
+        assert!(k.run(&mut slots.view_mut()));
     }
 }

@@ -20,6 +20,8 @@ mod program_codec;
 mod program_compile;
 pub mod registry;
 pub mod rig;
+mod slots;
+mod tape;
 pub mod spec;
 pub mod testing;
 pub mod value;

@@ -13,6 +13,7 @@ use crate::graph::store::AttrStore;
 pub use crate::inactive::KnownInputs;
 use crate::kernel::ScalarKernel;
 use crate::program::{AttrBinding, Binding, CompiledTables, ElemBinding};
+use crate::slots::SlotsMut;
 use crate::spec::{AttrId, Input, MultiInput, MultiOutput, NodeSpec, Output};
 use crate::value::{AttrValue, SharedData, Value};
 
@@ -104,7 +105,7 @@ static NO_TABLES: CompiledTables = CompiledTables::EMPTY;
 /// attributes live; in lazy mode they are empty (so the inlined fast paths
 /// fall through to the out-of-line lazy code) and `lazy` is set.
 pub struct ComputeContext<'a> {
-    pub(crate) slots: &'a mut [Value],
+    pub(crate) slots: SlotsMut<'a>,
     pub(crate) attrs: &'a [AttrBinding],
     pub(crate) tables: &'a CompiledTables,
     pub(crate) lazy: Option<LazyIo<'a>>,
@@ -123,7 +124,7 @@ impl<'a> ComputeContext<'a> {
         time: Time,
     ) -> Self {
         ComputeContext {
-            slots: &mut [],
+            slots: SlotsMut::empty(),
             attrs: &[],
             tables: &NO_TABLES,
             lazy: Some(LazyIo {
@@ -140,7 +141,7 @@ impl<'a> ComputeContext<'a> {
     /// A context over compiled slots (`attrs` is the node's slice of attribute bindings).
     #[inline]
     pub(crate) fn compiled(
-        slots: &'a mut [Value],
+        slots: SlotsMut<'a>,
         attrs: &'a [AttrBinding],
         tables: &'a CompiledTables,
         node: &'a dyn NodeType,
@@ -187,7 +188,10 @@ impl<'a> ComputeContext<'a> {
     fn read_elem(&self, id: AttrId, k: usize) -> Option<Value> {
         match &self.lazy {
             Some(io) => io.attrs.get(id.index())?.elems.get(k).map(|e| e.value.clone()),
-            None => Some(self.tables.resolve(self.slots, self.compiled_elem(id, k)?.binding)),
+            None => Some(
+                self.tables
+                    .resolve(self.slots.view(), self.compiled_elem(id, k)?.binding),
+            ),
         }
     }
 
@@ -207,8 +211,8 @@ impl<'a> ComputeContext<'a> {
         if k == 0 {
             if let Some(b) = self.attrs.get(id.index()) {
                 // `slot` is `u32::MAX` (out of range) unless the head element is a whole slot.
-                if let Some(v) = self.slots.get(b.slot as usize) {
-                    return T::from_value(v);
+                if let Some(v) = self.slots.view().read::<T>(b.slot) {
+                    return Some(v);
                 }
             }
         }
@@ -224,7 +228,7 @@ impl<'a> ComputeContext<'a> {
                 .elems
                 .get(k)
                 .and_then(|e| T::from_value(&e.value)),
-            None => self.tables.read(self.slots, self.compiled_elem(id, k)?.binding),
+            None => self.tables.read(self.slots.view(), self.compiled_elem(id, k)?.binding),
         }
     }
 
@@ -263,7 +267,7 @@ impl<'a> ComputeContext<'a> {
     #[inline(always)]
     fn slot_ref<T: AttrValue>(&self, id: AttrId) -> Option<&T> {
         let b = self.attrs.get(id.index())?;
-        T::as_ref(self.slots.get(b.slot as usize)?)
+        self.slots.view().read_ref(b.slot)
     }
 
     /// Reads an output of another compute group of this node that the
@@ -306,7 +310,7 @@ impl<'a> ComputeContext<'a> {
             let e = self.compiled_elem(h.id(), k)?;
             let v = self
                 .tables
-                .read(self.slots, e.binding)
+                .read(self.slots.view(), e.binding)
                 .unwrap_or_else(|| self.fallback(h.id()));
             return Some((e.index, v));
         }
@@ -338,9 +342,7 @@ impl<'a> ComputeContext<'a> {
         if k == 0 {
             if let Some(b) = self.attrs.get(id.index()) {
                 if b.group == self.group {
-                    if let Some(slot) = self.slots.get_mut(b.slot as usize) {
-                        v.write_into(slot);
-                    }
+                    self.slots.write(b.slot, v);
                 }
                 // Outputs are always bound to whole slots: nothing else to write.
                 return;
@@ -367,9 +369,7 @@ impl<'a> ComputeContext<'a> {
                         .map_or(b.head, |e| e.binding)
                 };
                 if let Binding::Slot(s) = binding {
-                    if let Some(slot) = self.slots.get_mut(s as usize) {
-                        v.write_into(slot);
-                    }
+                    self.slots.write(s, v);
                 }
             }
             Some(io) => {
@@ -420,10 +420,10 @@ impl<'a> ComputeContext<'a> {
             None => {
                 let b = self.attrs.get(id.index())?;
                 let s = match self.tables.elems.get(b.first as usize)?.binding {
-                    Binding::Slot(s) => s as usize,
+                    Binding::Slot(s) => s,
                     _ => return None,
                 };
-                self.slots.get_mut(s)?
+                self.slots.value_mut(s)?
             }
         };
         if D::arc_mut(slot).is_none() {

@@ -22,6 +22,8 @@ use crate::inactive::Guard;
 use crate::kernel::KernelStep;
 use crate::node::{ComputeContext, NodeType, Time};
 use crate::path::{parse_plug_path, resolve_attr, AttrLookupError};
+use crate::slots::{Slots, SlotsMut, SlotsRef};
+use crate::tape::Schedule;
 use crate::spec::{Direction, NodeSpec};
 use crate::value::{AttrType, AttrValue, Value};
 
@@ -105,21 +107,25 @@ impl CompiledTables {
 
 /// One float read from a slot: lane `comp` of a vec3 slot, or a number slot as a float.
 #[inline]
-fn lane(slots: &[Value], slot: u32, comp: Option<u8>) -> f64 {
-    match (slots.get(slot as usize), comp) {
-        (Some(Value::Vec3(v)), Some(0)) => v.x,
-        (Some(Value::Vec3(v)), Some(1)) => v.y,
-        (Some(Value::Vec3(v)), Some(_)) => v.z,
-        (Some(v), None) => v.as_f64().unwrap_or(0.0),
-        _ => 0.0,
+fn lane(slots: SlotsRef<'_>, slot: u32, comp: Option<u8>) -> f64 {
+    match comp {
+        None => slots.number(slot).unwrap_or(0.0),
+        Some(k) => match slots.value(slot) {
+            Some(Value::Vec3(v)) => v[(k as usize).min(2)],
+            _ => 0.0,
+        },
     }
 }
 
 impl CompiledTables {
     /// The value a binding reads.
-    pub(crate) fn resolve(&self, slots: &[Value], b: Binding) -> Value {
+    pub(crate) fn resolve(&self, slots: SlotsRef<'_>, b: Binding) -> Value {
         match b {
-            Binding::Slot(s) => slots.get(s as usize).cloned().unwrap_or(Value::Float(0.0)),
+            Binding::Slot(s) => match (slots.float(s), slots.value(s)) {
+                (Some(x), _) => Value::Float(x),
+                (None, Some(v)) => v.clone(),
+                (None, None) => Value::Float(0.0),
+            },
             Binding::Component(s, k) => Value::Float(lane(slots, s, Some(k))),
             Binding::Assemble(a) => match self.assemblies.get(a as usize) {
                 Some(asm) => Value::Vec3(asm.read(slots)),
@@ -144,9 +150,9 @@ impl CompiledTables {
     /// The value a binding reads, typed: no `Value` is built for a whole slot, one float or
     /// a vec3. `None` when the slot holds another type.
     #[inline]
-    pub(crate) fn read<T: AttrValue>(&self, slots: &[Value], b: Binding) -> Option<T> {
+    pub(crate) fn read<T: AttrValue>(&self, slots: SlotsRef<'_>, b: Binding) -> Option<T> {
         match b {
-            Binding::Slot(s) => T::from_value(slots.get(s as usize)?),
+            Binding::Slot(s) => slots.read(s),
             Binding::Component(s, c) => T::from_value(&Value::Float(lane(slots, s, Some(c)))),
             Binding::Assemble(x) => T::from_value(&Value::Vec3(self.assemblies.get(x as usize)?.read(slots))),
         }
@@ -156,8 +162,8 @@ impl CompiledTables {
 impl Assembly {
     /// The vec3 this assembly reads: its own slot with the connected components replaced.
     #[inline]
-    pub(crate) fn read(&self, slots: &[Value]) -> glam::DVec3 {
-        let mut v = match slots.get(self.own as usize) {
+    pub(crate) fn read(&self, slots: SlotsRef<'_>) -> glam::DVec3 {
+        let mut v = match slots.value(self.own) {
             Some(Value::Vec3(v)) => *v,
             _ => glam::DVec3::ZERO,
         };
@@ -208,12 +214,14 @@ impl Step {
     }
 }
 
-/// The steps `frame_steps` lists, in order (indices out of range are skipped).
-pub(crate) fn frame_schedule(steps: &[Step], frame_steps: &[u32]) -> Vec<Step> {
-    frame_steps
+/// The schedule of the steps `frame_steps` lists, in order (indices out of range are
+/// skipped), for slots whose float store holds `floats` slots.
+pub(crate) fn frame_schedule(steps: &[Step], frame_steps: &[u32], floats: usize) -> Schedule {
+    let listed = frame_steps
         .iter()
         .filter_map(|&i| steps.get(i as usize).cloned())
-        .collect()
+        .collect();
+    Schedule::new(listed, floats)
 }
 
 /// The smaller frame schedule selector nodes allow (see [`crate::inactive`]): valid while
@@ -222,17 +230,17 @@ pub(crate) fn frame_schedule(steps: &[Step], frame_steps: &[u32]) -> Vec<Step> {
 pub(crate) struct GuardedSchedule {
     /// Positions in `Program::steps` of the steps that run every frame.
     pub frame_steps: Vec<u32>,
-    /// Copies of those steps.
-    pub frame_schedule: Vec<Step>,
+    /// Copies of those steps, as they run.
+    pub frame_schedule: Schedule,
     /// The values the schedule relies on.
     pub guards: Vec<Guard>,
 }
 
 impl GuardedSchedule {
     /// The schedule of `frame_steps` (positions in `steps`) under `guards`.
-    pub(crate) fn new(steps: &[Step], frame_steps: Vec<u32>, guards: Vec<Guard>) -> Self {
+    pub(crate) fn new(steps: &[Step], frame_steps: Vec<u32>, guards: Vec<Guard>, floats: usize) -> Self {
         GuardedSchedule {
-            frame_schedule: frame_schedule(steps, &frame_steps),
+            frame_schedule: frame_schedule(steps, &frame_steps, floats),
             frame_steps,
             guards,
         }
@@ -263,13 +271,13 @@ pub(crate) struct NodeEntry {
 pub struct Program {
     pub(crate) steps: Vec<Step>,
     pub(crate) frame_steps: Vec<u32>,
-    /// Copies of the steps listed in `frame_steps`, so a frame walks one slice.
-    pub(crate) frame_schedule: Vec<Step>,
+    /// Copies of the steps listed in `frame_steps`, as a frame runs them.
+    pub(crate) frame_schedule: Schedule,
     /// The smaller frame schedule that selector nodes allow, when they allow one.
     pub(crate) guarded: Option<GuardedSchedule>,
     pub(crate) attr_bindings: Vec<AttrBinding>,
     pub(crate) tables: CompiledTables,
-    pub(crate) initial: Vec<Value>,
+    pub(crate) initial: Slots,
     pub(crate) dynamic_slot: Vec<bool>,
     pub(crate) own_input_slot: Vec<bool>,
     /// Output slots whose step was pruned (see [`CompileOptions::observed`]).
@@ -337,6 +345,7 @@ impl Program {
             _ => &self.frame_schedule,
         };
         steps
+            .steps
             .iter()
             .map(|s| format!("{} ({}) group {}", self.step_node_name(s), s.kind.spec().name, s.group))
             .collect()
@@ -438,7 +447,7 @@ impl Program {
 /// One evaluation state of a program: its own slot values.
 pub struct Instance {
     program: Arc<Program>,
-    slots: Vec<Value>,
+    slots: Slots,
     needs_full: bool,
     /// The last full evaluation found every guard of the guarded schedule holding.
     guarded: bool,
@@ -504,12 +513,16 @@ impl Instance {
         if !value.is_finite() {
             return Err(Error::Program("value is not finite (NaN or infinity)".into()));
         }
-        let Some(target) = self.slots.get_mut(slot as usize) else {
-            return Err(Error::Program("handle does not belong to this program".into()));
+        let mut slots = self.slots.view_mut();
+        let stored = match (comp, slots.value_mut(slot)) {
+            (Some(k), Some(Value::Vec3(v))) => {
+                v[(k as usize).min(2)] = value.as_f64().unwrap_or(0.0);
+                true
+            }
+            _ => slots.set_value(slot, value),
         };
-        match (comp, target) {
-            (Some(k), Value::Vec3(v)) => v[k as usize] = value.as_f64().unwrap_or(0.0),
-            (_, t) => *t = value,
+        if !stored {
+            return Err(Error::Program("handle does not belong to this program".into()));
         }
         if !self.program.dynamic_slot.get(slot as usize).copied().unwrap_or(false) {
             self.needs_full = true;
@@ -524,12 +537,12 @@ impl Instance {
 
     /// Reads the current value of a plug.
     pub fn get(&self, h: &PlugHandle) -> Value {
-        self.program.tables.resolve(&self.slots, h.binding)
+        self.program.tables.resolve(self.slots.view(), h.binding)
     }
 
     /// Reads a typed value (`None` when the handle's type differs).
     pub fn get_typed<T: AttrValue>(&self, h: &PlugHandle) -> Option<T> {
-        self.program.tables.read(&self.slots, h.binding)
+        self.program.tables.read(self.slots.view(), h.binding)
     }
 
     /// Evaluates the program at `time`: the whole program on the first call
@@ -543,13 +556,16 @@ impl Instance {
             self.guarded = program
                 .guarded
                 .as_ref()
-                .is_some_and(|g| g.guards.iter().all(|x| x.holds(&program.tables, &self.slots)));
+                .is_some_and(|g| g.guards.iter().all(|x| x.holds(&program.tables, self.slots.view())));
             return Ok(());
         }
-        match &program.guarded {
-            Some(g) if self.guarded => run_steps(&program, g.frame_schedule.iter(), &mut self.slots, time),
-            _ => run_steps(&program, program.frame_schedule.iter(), &mut self.slots, time),
-        }
+        let schedule = match &program.guarded {
+            Some(g) if self.guarded => &g.frame_schedule,
+            _ => &program.frame_schedule,
+        };
+        schedule
+            .run(&program.attr_bindings, &program.tables, &mut self.slots, time)
+            .map_err(|(step, e)| step_error(&program, step, e))
     }
 
     /// Whether frame evaluations run the guarded schedule (see
@@ -566,14 +582,22 @@ impl Instance {
     }
 }
 
+#[cfg(test)]
+impl Instance {
+    /// The instance's slots (for tests that store them differently).
+    pub(crate) fn slots_mut(&mut self) -> &mut Slots {
+        &mut self.slots
+    }
+}
+
 fn run_steps<'a>(
     program: &Program,
     steps: impl Iterator<Item = &'a Step>,
-    slots: &mut [Value],
+    slots: &mut Slots,
     time: Time,
 ) -> Result<()> {
     for step in steps {
-        if let Err(e) = run_step(step, &program.attr_bindings, &program.tables, slots, time) {
+        if let Err(e) = run_step(step, &program.attr_bindings, &program.tables, slots.view_mut(), time) {
             return Err(step_error(program, step, e));
         }
     }
@@ -586,11 +610,11 @@ pub(crate) fn run_step(
     step: &Step,
     attr_bindings: &[AttrBinding],
     tables: &CompiledTables,
-    slots: &mut [Value],
+    mut slots: SlotsMut<'_>,
     time: Time,
 ) -> std::result::Result<(), ComputeError> {
     if let Some(k) = &step.kernel {
-        if k.run(slots) {
+        if k.run(&mut slots) {
             return Ok(());
         }
     }

@@ -41,6 +41,7 @@ use crate::program::{
 };
 use crate::program_codec::{err, Reader, Writer, V_SHARED};
 use crate::registry::Registry;
+use crate::slots::Slots;
 use crate::spec::{AttrId, Direction, NodeSpec};
 use crate::value::{AttrType, Value};
 
@@ -151,8 +152,8 @@ impl Program {
         // Heavy data, each allocation once (instances and slots share it after loading too).
         let mut shared_index: HashMap<usize, u32> = HashMap::new();
         let mut shared: Vec<&Value> = Vec::new();
-        let slot_shared: Vec<Option<u32>> = self
-            .initial
+        let initial = self.initial.to_values();
+        let slot_shared: Vec<Option<u32>> = initial
             .iter()
             .map(|v| {
                 heavy_ptr(v).map(|p| {
@@ -167,8 +168,8 @@ impl Program {
         for v in &shared {
             w.shared(v);
         }
-        w.varint(self.initial.len() as u64);
-        for (v, sh) in self.initial.iter().zip(&slot_shared) {
+        w.varint(initial.len() as u64);
+        for (v, sh) in initial.iter().zip(&slot_shared) {
             if let Some(i) = sh {
                 w.u8(V_SHARED);
                 w.varint(*i as u64);
@@ -495,6 +496,7 @@ fn decode_payload(payload: &[u8], registry: &Registry) -> Result<Program> {
     if let Some(&f) = frame_steps.iter().find(|&&f| f as usize >= steps.len()) {
         return Err(err(format!("frame step {f} out of range")));
     }
+    let floats = Slots::leading_floats(&initial);
     let guarded = match guarded {
         None => None,
         Some((guarded_steps, guards)) => {
@@ -513,17 +515,17 @@ fn decode_payload(payload: &[u8], registry: &Registry) -> Result<Program> {
                     return Err(err("a guard refers to a missing or mistyped slot"));
                 }
             }
-            Some(GuardedSchedule::new(&steps, guarded_steps, guards))
+            Some(GuardedSchedule::new(&steps, guarded_steps, guards, floats))
         }
     };
     Ok(Program {
         guarded,
-        frame_schedule: frame_schedule(&steps, &frame_steps),
+        frame_schedule: frame_schedule(&steps, &frame_steps, floats),
         steps,
         frame_steps,
         attr_bindings,
         tables,
-        initial,
+        initial: Slots::from_values(initial),
         dynamic_slot,
         own_input_slot,
         pruned_slot,

@@ -12,6 +12,7 @@ use crate::program::{
     frame_schedule, Assembly, AttrBinding, Binding, CompileOptions, CompiledTables, ElemBinding, GuardedSchedule,
     NodeEntry, Program, Step,
 };
+use crate::slots::Slots;
 use crate::spec::{AttrId, Direction};
 use crate::value::Value;
 
@@ -48,6 +49,26 @@ impl<'g> Compiler<'g> {
         self.initial.push(v);
         self.output_slot_producer.push(producer);
         (self.initial.len() - 1) as u32
+    }
+
+    /// Renumbers the slots so that those holding a float come first, in their order (the
+    /// dense float store of [`crate::slots`]), then the others, in theirs.
+    fn number_floats_first(&mut self) {
+        let is_float = |v: &Value| matches!(v, Value::Float(_));
+        let mut order: Vec<u32> = (0..self.initial.len() as u32).collect();
+        order.sort_by_key(|&s| !is_float(&self.initial[s as usize]));
+        let mut new_id = vec![0u32; order.len()];
+        for (new, &old) in order.iter().enumerate() {
+            new_id[old as usize] = new as u32;
+        }
+        let initial = std::mem::take(&mut self.initial);
+        let producer = std::mem::take(&mut self.output_slot_producer);
+        let mut taken: Vec<Option<Value>> = initial.into_iter().map(Some).collect();
+        self.initial = order.iter().filter_map(|&s| taken[s as usize].take()).collect();
+        self.output_slot_producer = order.iter().map(|&s| producer[s as usize]).collect();
+        for s in self.outputs.values_mut().chain(self.own.values_mut()) {
+            *s = new_id[*s as usize];
+        }
     }
 
     /// The binding through which the value at `plug` (an element, maybe a component) is read.
@@ -135,6 +156,7 @@ impl<'g> Compiler<'g> {
                 }
             }
         }
+        self.number_floats_first();
         // Pass 2: bindings for every element.
         let mut attr_bindings = vec![AttrBinding::default(); total_attrs as usize];
         let mut elems = Vec::new();
@@ -291,6 +313,7 @@ impl<'g> Compiler<'g> {
             .iter()
             .map(|p| p.as_ref().and_then(|p| step_of.get(p).copied()))
             .collect();
+        let initial = Slots::from_values(std::mem::take(&mut self.initial));
         let selective = inactive::analyse(&inactive::Analysis {
             steps: &steps,
             order: &order,
@@ -299,7 +322,7 @@ impl<'g> Compiler<'g> {
             dynamic_slot: &dynamic_slot,
             attr_bindings: &attr_bindings,
             tables: &tables,
-            initial: &self.initial,
+            initial: &initial,
             seeds: seeds.as_deref(),
         });
         // Handles are refused for outputs the smaller schedule may leave stale.
@@ -339,15 +362,16 @@ impl<'g> Compiler<'g> {
             .map(|(i, e)| (e.name.clone(), i as u32))
             .collect();
         let own_input_slot = self.output_slot_producer.iter().map(|p| p.is_none()).collect();
-        let guarded = selective.map(|s| GuardedSchedule::new(&sorted, s.frame_steps, s.guards));
+        let floats = initial.floats.len();
+        let guarded = selective.map(|s| GuardedSchedule::new(&sorted, s.frame_steps, s.guards, floats));
         Ok(Program {
             guarded,
-            frame_schedule: frame_schedule(&sorted, &frame_steps),
+            frame_schedule: frame_schedule(&sorted, &frame_steps, floats),
             steps: sorted,
             frame_steps,
             attr_bindings,
             tables,
-            initial: self.initial,
+            initial,
             dynamic_slot,
             own_input_slot,
             pruned_slot,
