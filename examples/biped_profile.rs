@@ -2,7 +2,9 @@
 //! reads), for a number of frames: a target for profilers (`perf`, `valgrind --tool=callgrind`).
 //!
 //! Run: `cargo run --release --example biped_profile -- 2000` (add `ik` after the frame
-//! count to switch both arms to IK: all four limb chains then solve every frame).
+//! count to switch both arms to IK: all four limb chains then solve every frame; add
+//! `batch=256` to evaluate that many instances one after the other each frame, as a crowd
+//! on one core does, and report the time per instance).
 
 use std::path::Path;
 use std::sync::Arc;
@@ -32,32 +34,45 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .iter()
         .map(|j| program.handle(j))
         .collect::<Result<Vec<_>, _>>()?;
-    let mut inst = Instance::new(program.clone());
-    if std::env::args().nth(2).as_deref() == Some("ik") {
-        for side in ["L", "R"] {
-            inst.set(
-                &program.handle(&format!("arm_settings_{side}.input"))?,
-                Value::Float(1.0),
-            )?;
+    let args: Vec<String> = std::env::args().collect();
+    let batch: usize = args
+        .iter()
+        .find_map(|a| a.strip_prefix("batch="))
+        .map(|n| n.parse())
+        .transpose()?
+        .unwrap_or(1);
+    let mut instances = vec![Instance::new(program.clone()); batch.max(1)];
+    if args.iter().skip(2).any(|a| a == "ik") {
+        for inst in &mut instances {
+            for side in ["L", "R"] {
+                inst.set(
+                    &program.handle(&format!("arm_settings_{side}.input"))?,
+                    Value::Float(1.0),
+                )?;
+            }
         }
     }
     let start = Instant::now();
     let mut checksum = 0.0;
     for f in 0..frames {
-        inst.evaluate(Time::new((f % 48 + 1) as f64, 24.0))?;
-        for h in &handles {
-            if let Value::Matrix(m) = inst.get(h) {
-                checksum += m.w_axis.x;
+        for inst in &mut instances {
+            inst.evaluate(Time::new((f % 48 + 1) as f64, 24.0))?;
+            for h in &handles {
+                if let Some(m) = inst.get_typed::<glam::DMat4>(h) {
+                    checksum += m.w_axis.x;
+                }
             }
         }
     }
+    let frames = frames * instances.len() as u64;
     let per = start.elapsed().as_secs_f64() / frames as f64;
     println!(
-        "{} steps per frame ({} while the rig's switches keep their values), {:.2} µs per frame (checksum {checksum:.6})",
+        "{} steps per frame ({} while the rig's switches keep their values), {} bytes per instance, {:.2} µs per instance per frame (checksum {checksum:.6})",
         program.frame_step_count(),
         program
             .guarded_frame_step_count()
             .map_or("no guarded schedule".to_string(), |n| n.to_string()),
+        program.instance_bytes(),
         per * 1e6
     );
     Ok(())

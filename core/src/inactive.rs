@@ -18,7 +18,7 @@ use std::cell::RefCell;
 
 use crate::node::Time;
 use crate::program::{run_step, AttrBinding, Binding, CompiledTables, Step};
-use crate::slots::{Slots, SlotsRef};
+use crate::slots::Slots;
 use crate::spec::{AttrId, Input};
 use crate::value::{AttrValue, Value};
 
@@ -64,7 +64,7 @@ pub(crate) struct Guard {
 
 impl Guard {
     /// Whether `slots` still hold the guarded value (bit for bit).
-    pub(crate) fn holds(&self, tables: &CompiledTables, slots: SlotsRef<'_>) -> bool {
+    pub(crate) fn holds(&self, tables: &CompiledTables, slots: &Slots) -> bool {
         tables.resolve(slots, self.binding).same_bits(&self.value)
     }
 }
@@ -155,7 +155,7 @@ impl Walk<'_, '_> {
                     &self.a.steps[x as usize],
                     self.a.attr_bindings,
                     self.a.tables,
-                    self.scratch.view_mut(),
+                    &mut self.scratch,
                     Time::default(),
                 )
                 .is_ok();
@@ -183,7 +183,7 @@ impl Walk<'_, '_> {
         if !self.slots_of(b).into_iter().all(|s| self.slot_known(s)) {
             return None;
         }
-        let v = self.a.tables.resolve(self.scratch.view(), b);
+        let v = self.a.tables.resolve(&self.scratch, b);
         matches!(
             v,
             Value::Bool(_)

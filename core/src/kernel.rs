@@ -11,10 +11,10 @@
 use crate::error::{ComputeError, SpecError};
 use crate::node::{ComputeContext, NodeType};
 use crate::program::{AttrBinding, Binding};
-use crate::slots::{SlotsMut, SlotsRef};
-use crate::tape::Arith;
+use crate::slots::Slots;
 use crate::spec::{AttrId, Direction, Input, NodeSpec, Output};
-use crate::value::{AttrType, Value};
+use crate::tape::Arith;
+use crate::value::AttrType;
 
 /// Most inputs a [`ScalarKernel`] may read.
 pub const MAX_KERNEL_INPUTS: usize = 4;
@@ -329,7 +329,7 @@ impl KernelStep {
     /// dense float store, a lane of something other than a vec3): the caller then runs
     /// the node's `compute`, whose fallbacks define the result.
     #[inline(always)]
-    pub(crate) fn run(&self, slots: &mut SlotsMut<'_>) -> bool {
+    pub(crate) fn run(&self, slots: &mut Slots) -> bool {
         let [i0, i1, ..] = self.inputs;
         let floats = &mut *slots.floats;
         let r = match self.code {
@@ -353,7 +353,7 @@ impl KernelStep {
                 (Some(a), Some(b)) => finite(a * b),
                 _ => return false,
             },
-            Code::General => match self.general(slots.view()) {
+            Code::General => match self.general(slots) {
                 Some(r) => r,
                 None => return false,
             },
@@ -369,7 +369,7 @@ impl KernelStep {
 
     /// Reads every input by lane and applies `op` (out of line: the uncommon shapes).
     #[inline(never)]
-    fn general(&self, slots: SlotsRef<'_>) -> Option<f64> {
+    fn general(&self, slots: &Slots) -> Option<f64> {
         let mut x = [0.0; MAX_KERNEL_INPUTS];
         let n = (self.len as usize).min(MAX_KERNEL_INPUTS);
         for (v, &input) in x[..n].iter_mut().zip(&self.inputs) {
@@ -381,13 +381,14 @@ impl KernelStep {
 
 /// One kernel input's value, or `None` when its slot does not hold what the binding expects.
 #[inline]
-fn read(slots: SlotsRef<'_>, input: KernelInput) -> Option<f64> {
+fn read(slots: &Slots, input: KernelInput) -> Option<f64> {
     if input.lane == WHOLE {
         return slots.float(input.slot);
     }
-    match slots.value(input.slot)? {
-        Value::Vec3(v) if input.lane < 3 => Some(v[input.lane as usize]),
-        _ => None,
+    if input.lane < 3 {
+        slots.lane(input.slot, input.lane)
+    } else {
+        None
     }
 }
 
@@ -398,6 +399,7 @@ mod tests {
     use super::*;
     use crate::registry::Registry;
     use crate::slots::Slots;
+    use crate::value::Value;
     use crate::{testing, CompileOptions, Graph, Instance, Program, Time};
 
     /// `fma3`'s kernel: `output = a * b + c` (a custom op with three inputs).
@@ -538,17 +540,14 @@ mod tests {
             "the compiler puts the floats in the dense store"
         );
         // The same values, every one stored as a `Value` (as a program from an older binary).
-        let mut slots = Slots {
-            floats: Vec::new(),
-            values: program.initial.to_values(),
-        };
+        let mut slots = Slots::all_values(program.initial.to_values());
         let before = slots.values.clone();
-        assert!(!k.run(&mut slots.view_mut()));
+        assert!(!k.run(&mut slots));
         slots.values[k.inputs[0].slot as usize] = Value::Int(3);
-        assert!(!k.run(&mut slots.view_mut()));
+        assert!(!k.run(&mut slots));
         assert!(slots.values[k.output as usize].same_bits(&before[k.output as usize]));
         // In the dense store the kernel runs.
         let mut slots = program.initial.clone();
-        assert!(k.run(&mut slots.view_mut()));
+        assert!(k.run(&mut slots));
     }
 }

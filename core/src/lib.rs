@@ -21,8 +21,8 @@ mod program_compile;
 pub mod registry;
 pub mod rig;
 mod slots;
-mod tape;
 pub mod spec;
+mod tape;
 pub mod testing;
 pub mod value;
 

@@ -13,7 +13,7 @@ use crate::graph::store::AttrStore;
 pub use crate::inactive::KnownInputs;
 use crate::kernel::ScalarKernel;
 use crate::program::{AttrBinding, Binding, CompiledTables, ElemBinding};
-use crate::slots::SlotsMut;
+use crate::slots::Slots;
 use crate::spec::{AttrId, Input, MultiInput, MultiOutput, NodeSpec, Output};
 use crate::value::{AttrValue, SharedData, Value};
 
@@ -105,7 +105,7 @@ static NO_TABLES: CompiledTables = CompiledTables::EMPTY;
 /// attributes live; in lazy mode they are empty (so the inlined fast paths
 /// fall through to the out-of-line lazy code) and `lazy` is set.
 pub struct ComputeContext<'a> {
-    pub(crate) slots: SlotsMut<'a>,
+    pub(crate) slots: &'a mut Slots,
     pub(crate) attrs: &'a [AttrBinding],
     pub(crate) tables: &'a CompiledTables,
     pub(crate) lazy: Option<LazyIo<'a>>,
@@ -117,6 +117,7 @@ pub struct ComputeContext<'a> {
 impl<'a> ComputeContext<'a> {
     /// A context over a lazy graph node's attribute stores.
     pub(crate) fn lazy(
+        no_slots: &'a mut Slots,
         attrs: &'a mut [AttrStore],
         revision: u64,
         node: &'a dyn NodeType,
@@ -124,7 +125,7 @@ impl<'a> ComputeContext<'a> {
         time: Time,
     ) -> Self {
         ComputeContext {
-            slots: SlotsMut::empty(),
+            slots: no_slots,
             attrs: &[],
             tables: &NO_TABLES,
             lazy: Some(LazyIo {
@@ -141,7 +142,7 @@ impl<'a> ComputeContext<'a> {
     /// A context over compiled slots (`attrs` is the node's slice of attribute bindings).
     #[inline]
     pub(crate) fn compiled(
-        slots: SlotsMut<'a>,
+        slots: &'a mut Slots,
         attrs: &'a [AttrBinding],
         tables: &'a CompiledTables,
         node: &'a dyn NodeType,
@@ -188,10 +189,7 @@ impl<'a> ComputeContext<'a> {
     fn read_elem(&self, id: AttrId, k: usize) -> Option<Value> {
         match &self.lazy {
             Some(io) => io.attrs.get(id.index())?.elems.get(k).map(|e| e.value.clone()),
-            None => Some(
-                self.tables
-                    .resolve(self.slots.view(), self.compiled_elem(id, k)?.binding),
-            ),
+            None => Some(self.tables.resolve(self.slots, self.compiled_elem(id, k)?.binding)),
         }
     }
 
@@ -211,7 +209,7 @@ impl<'a> ComputeContext<'a> {
         if k == 0 {
             if let Some(b) = self.attrs.get(id.index()) {
                 // `slot` is `u32::MAX` (out of range) unless the head element is a whole slot.
-                if let Some(v) = self.slots.view().read::<T>(b.slot) {
+                if let Some(v) = self.slots.read::<T>(b.slot) {
                     return Some(v);
                 }
             }
@@ -228,7 +226,7 @@ impl<'a> ComputeContext<'a> {
                 .elems
                 .get(k)
                 .and_then(|e| T::from_value(&e.value)),
-            None => self.tables.read(self.slots.view(), self.compiled_elem(id, k)?.binding),
+            None => self.tables.read(self.slots, self.compiled_elem(id, k)?.binding),
         }
     }
 
@@ -267,7 +265,7 @@ impl<'a> ComputeContext<'a> {
     #[inline(always)]
     fn slot_ref<T: AttrValue>(&self, id: AttrId) -> Option<&T> {
         let b = self.attrs.get(id.index())?;
-        self.slots.view().read_ref(b.slot)
+        self.slots.read_ref(b.slot)
     }
 
     /// Reads an output of another compute group of this node that the
@@ -310,7 +308,7 @@ impl<'a> ComputeContext<'a> {
             let e = self.compiled_elem(h.id(), k)?;
             let v = self
                 .tables
-                .read(self.slots.view(), e.binding)
+                .read(self.slots, e.binding)
                 .unwrap_or_else(|| self.fallback(h.id()));
             return Some((e.index, v));
         }

@@ -22,9 +22,9 @@ use crate::inactive::Guard;
 use crate::kernel::KernelStep;
 use crate::node::{ComputeContext, NodeType, Time};
 use crate::path::{parse_plug_path, resolve_attr, AttrLookupError};
-use crate::slots::{Slots, SlotsMut, SlotsRef};
-use crate::tape::Schedule;
+use crate::slots::Slots;
 use crate::spec::{Direction, NodeSpec};
+use crate::tape::Schedule;
 use crate::value::{AttrType, AttrValue, Value};
 
 /// Where one element of an attribute reads or writes its value.
@@ -107,25 +107,18 @@ impl CompiledTables {
 
 /// One float read from a slot: lane `comp` of a vec3 slot, or a number slot as a float.
 #[inline]
-fn lane(slots: SlotsRef<'_>, slot: u32, comp: Option<u8>) -> f64 {
+fn lane(slots: &Slots, slot: u32, comp: Option<u8>) -> f64 {
     match comp {
         None => slots.number(slot).unwrap_or(0.0),
-        Some(k) => match slots.value(slot) {
-            Some(Value::Vec3(v)) => v[(k as usize).min(2)],
-            _ => 0.0,
-        },
+        Some(k) => slots.lane(slot, k).unwrap_or(0.0),
     }
 }
 
 impl CompiledTables {
     /// The value a binding reads.
-    pub(crate) fn resolve(&self, slots: SlotsRef<'_>, b: Binding) -> Value {
+    pub(crate) fn resolve(&self, slots: &Slots, b: Binding) -> Value {
         match b {
-            Binding::Slot(s) => match (slots.float(s), slots.value(s)) {
-                (Some(x), _) => Value::Float(x),
-                (None, Some(v)) => v.clone(),
-                (None, None) => Value::Float(0.0),
-            },
+            Binding::Slot(s) => slots.get(s).unwrap_or(Value::Float(0.0)),
             Binding::Component(s, k) => Value::Float(lane(slots, s, Some(k))),
             Binding::Assemble(a) => match self.assemblies.get(a as usize) {
                 Some(asm) => Value::Vec3(asm.read(slots)),
@@ -150,7 +143,7 @@ impl CompiledTables {
     /// The value a binding reads, typed: no `Value` is built for a whole slot, one float or
     /// a vec3. `None` when the slot holds another type.
     #[inline]
-    pub(crate) fn read<T: AttrValue>(&self, slots: SlotsRef<'_>, b: Binding) -> Option<T> {
+    pub(crate) fn read<T: AttrValue>(&self, slots: &Slots, b: Binding) -> Option<T> {
         match b {
             Binding::Slot(s) => slots.read(s),
             Binding::Component(s, c) => T::from_value(&Value::Float(lane(slots, s, Some(c)))),
@@ -162,11 +155,8 @@ impl CompiledTables {
 impl Assembly {
     /// The vec3 this assembly reads: its own slot with the connected components replaced.
     #[inline]
-    pub(crate) fn read(&self, slots: SlotsRef<'_>) -> glam::DVec3 {
-        let mut v = match slots.value(self.own) {
-            Some(Value::Vec3(v)) => *v,
-            _ => glam::DVec3::ZERO,
-        };
+    pub(crate) fn read(&self, slots: &Slots) -> glam::DVec3 {
+        let mut v = slots.read::<glam::DVec3>(self.own).unwrap_or(glam::DVec3::ZERO);
         for (k, c) in self.comps.iter().enumerate() {
             if let Some((s, comp)) = c {
                 v[k] = lane(slots, *s, *comp);
@@ -293,6 +283,7 @@ impl std::fmt::Debug for Program {
             .field("frame_steps", &self.frame_steps.len())
             .field("guarded_frame_steps", &self.guarded_frame_step_count())
             .field("slots", &self.initial.len())
+            .field("instance_bytes", &self.initial.bytes())
             .finish()
     }
 }
@@ -354,6 +345,13 @@ impl Program {
     /// Number of value slots.
     pub fn slot_count(&self) -> usize {
         self.initial.len()
+    }
+
+    /// Bytes of value storage each [`Instance`] owns (floats, vectors, matrices, flags and
+    /// enums in dense arrays, other values inline; heavy data such as meshes is shared
+    /// between instances and not counted).
+    pub fn instance_bytes(&self) -> usize {
+        self.initial.bytes()
     }
 
     /// Resolves a plug path to a handle.
@@ -513,13 +511,9 @@ impl Instance {
         if !value.is_finite() {
             return Err(Error::Program("value is not finite (NaN or infinity)".into()));
         }
-        let mut slots = self.slots.view_mut();
-        let stored = match (comp, slots.value_mut(slot)) {
-            (Some(k), Some(Value::Vec3(v))) => {
-                v[(k as usize).min(2)] = value.as_f64().unwrap_or(0.0);
-                true
-            }
-            _ => slots.set_value(slot, value),
+        let stored = match comp {
+            Some(k) => self.slots.set_lane(slot, k, value.as_f64().unwrap_or(0.0)),
+            None => self.slots.set_value(slot, value),
         };
         if !stored {
             return Err(Error::Program("handle does not belong to this program".into()));
@@ -537,12 +531,12 @@ impl Instance {
 
     /// Reads the current value of a plug.
     pub fn get(&self, h: &PlugHandle) -> Value {
-        self.program.tables.resolve(self.slots.view(), h.binding)
+        self.program.tables.resolve(&self.slots, h.binding)
     }
 
     /// Reads a typed value (`None` when the handle's type differs).
     pub fn get_typed<T: AttrValue>(&self, h: &PlugHandle) -> Option<T> {
-        self.program.tables.read(self.slots.view(), h.binding)
+        self.program.tables.read(&self.slots, h.binding)
     }
 
     /// Evaluates the program at `time`: the whole program on the first call
@@ -556,7 +550,7 @@ impl Instance {
             self.guarded = program
                 .guarded
                 .as_ref()
-                .is_some_and(|g| g.guards.iter().all(|x| x.holds(&program.tables, self.slots.view())));
+                .is_some_and(|g| g.guards.iter().all(|x| x.holds(&program.tables, &self.slots)));
             return Ok(());
         }
         let schedule = match &program.guarded {
@@ -597,7 +591,7 @@ fn run_steps<'a>(
     time: Time,
 ) -> Result<()> {
     for step in steps {
-        if let Err(e) = run_step(step, &program.attr_bindings, &program.tables, slots.view_mut(), time) {
+        if let Err(e) = run_step(step, &program.attr_bindings, &program.tables, slots, time) {
             return Err(step_error(program, step, e));
         }
     }
@@ -610,11 +604,11 @@ pub(crate) fn run_step(
     step: &Step,
     attr_bindings: &[AttrBinding],
     tables: &CompiledTables,
-    mut slots: SlotsMut<'_>,
+    slots: &mut Slots,
     time: Time,
 ) -> std::result::Result<(), ComputeError> {
     if let Some(k) = &step.kernel {
-        if k.run(&mut slots) {
+        if k.run(slots) {
             return Ok(());
         }
     }

@@ -12,7 +12,7 @@ use crate::program::{
     frame_schedule, Assembly, AttrBinding, Binding, CompileOptions, CompiledTables, ElemBinding, GuardedSchedule,
     NodeEntry, Program, Step,
 };
-use crate::slots::Slots;
+use crate::slots::{Class, Slots};
 use crate::spec::{AttrId, Direction};
 use crate::value::Value;
 
@@ -31,7 +31,7 @@ pub(crate) struct Compiler<'g> {
 
 impl<'g> Compiler<'g> {
     pub(crate) fn new(graph: &'g Graph) -> Self {
-        let order = graph.nodes();
+        let order = upstream_first(graph);
         Compiler {
             graph,
             order,
@@ -51,12 +51,12 @@ impl<'g> Compiler<'g> {
         (self.initial.len() - 1) as u32
     }
 
-    /// Renumbers the slots so that those holding a float come first, in their order (the
-    /// dense float store of [`crate::slots`]), then the others, in theirs.
-    fn number_floats_first(&mut self) {
-        let is_float = |v: &Value| matches!(v, Value::Float(_));
+    /// Renumbers the slots by the class of their value (floats, vec3s, matrices, bools,
+    /// enums, then the rest), keeping their order within a class: the dense arrays of
+    /// [`crate::slots`].
+    fn number_by_class(&mut self) {
         let mut order: Vec<u32> = (0..self.initial.len() as u32).collect();
-        order.sort_by_key(|&s| !is_float(&self.initial[s as usize]));
+        order.sort_by_key(|&s| Class::of(&self.initial[s as usize]));
         let mut new_id = vec![0u32; order.len()];
         for (new, &old) in order.iter().enumerate() {
             new_id[old as usize] = new as u32;
@@ -156,7 +156,7 @@ impl<'g> Compiler<'g> {
                 }
             }
         }
-        self.number_floats_first();
+        self.number_by_class();
         // Pass 2: bindings for every element.
         let mut attr_bindings = vec![AttrBinding::default(); total_attrs as usize];
         let mut elems = Vec::new();
@@ -379,4 +379,55 @@ impl<'g> Compiler<'g> {
             node_index,
         })
     }
+}
+
+/// The graph's nodes, each after the nodes it reads from where connections allow (a
+/// depth-first walk upstream from each node in creation order; plug-level loops between
+/// nodes are cut where the walk meets them). Any order compiles to the same schedule
+/// constraints; this one numbers slots roughly in the order a frame touches them, so an
+/// instance's frame walks its memory forward (fewer cache misses in large batches).
+fn upstream_first(graph: &Graph) -> Vec<NodeId> {
+    let nodes = graph.nodes();
+    let index: HashMap<NodeId, usize> = nodes.iter().enumerate().map(|(i, &n)| (n, i)).collect();
+    let sources = |n: NodeId| -> Vec<usize> {
+        let Ok(data) = graph.data(n) else { return Vec::new() };
+        let mut up = Vec::new();
+        for store in &data.attrs {
+            for e in &store.elems {
+                let comps = e.comp_sources.iter().flat_map(|c| c.iter()).flatten();
+                for p in e.source.iter().chain(comps) {
+                    if let Some(&i) = index.get(&p.node) {
+                        up.push(i);
+                    }
+                }
+            }
+        }
+        up
+    };
+    // 0: not reached, 1: its sources are being placed, 2: placed.
+    let mut state = vec![0u8; nodes.len()];
+    let mut order = Vec::with_capacity(nodes.len());
+    let mut stack: Vec<(usize, bool)> = Vec::new();
+    for root in 0..nodes.len() {
+        stack.push((root, false));
+        while let Some((i, sources_placed)) = stack.pop() {
+            if sources_placed {
+                state[i] = 2;
+                order.push(nodes[i]);
+                continue;
+            }
+            if state[i] != 0 {
+                continue;
+            }
+            state[i] = 1;
+            stack.push((i, true));
+            let mut up = sources(nodes[i]);
+            up.retain(|&u| state[u] == 0);
+            up.sort_unstable();
+            up.dedup();
+            // Popped in creation order.
+            stack.extend(up.into_iter().rev().map(|u| (u, false)));
+        }
+    }
+    order
 }

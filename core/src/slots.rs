@@ -1,207 +1,290 @@
-//! Compiled value storage: a program's float slots in a dense `f64` array, every other
-//! slot as a [`Value`].
+//! Compiled value storage: a program's slots in dense arrays by type (floats, vec3s,
+//! matrices, bools, enums), every other slot as a [`Value`].
 //!
-//! Slot ids are global (`0..len`). The compiler numbers the slots whose value is a float
-//! first, so slot `s` is `floats[s]` when `s < floats.len()` and `values[s - floats.len()]`
-//! otherwise. A float slot takes 8 bytes where a `Value` takes 136 (a matrix is stored
-//! inline), so chains of scalar nodes stay in the first-level cache and their reads and
-//! writes need no variant test. Which store a slot lives in only affects speed: a float
-//! stored as a `Value` (a program loaded from an older binary) is read the same way.
+//! Slot ids are global (`0..len`). The compiler numbers the slots by the type of their
+//! value, floats first, then vec3s, matrices, bools, enums and the rest, so slot `s` lives
+//! in the array of the class whose id range holds it. A `Value` takes 136 bytes (a matrix
+//! is stored inline); in its own array a float takes 8, a vec3 24, a bool 1, so an
+//! instance's frame touches a fraction of the memory and its reads and writes need no
+//! variant test. Which array a slot lives in only affects speed: a value stored as a
+//! `Value` (a program loaded from an older binary) reads the same.
 
 use std::any::Any;
 
-use crate::value::{AttrType, AttrValue, Value};
+use glam::{DMat4, DVec3};
 
-/// The float `x` as `T`, when `T` is `f64` (decided at compile time).
+use crate::value::{AttrValue, Value};
+
+/// `u` as `T`, when `T` is `U` (decided at compile time).
 #[inline(always)]
-fn float_as<T: AttrValue>(x: f64) -> Option<T> {
+fn cast<U: Copy + 'static, T: AttrValue>(u: U) -> Option<T> {
     let mut t = T::default();
-    let slot = (&mut t as &mut dyn Any).downcast_mut::<f64>()?;
-    *slot = x;
+    *(&mut t as &mut dyn Any).downcast_mut::<U>()? = u;
     Some(t)
 }
 
-/// Whether `T` is read from and written to float slots (decided at compile time).
+/// `v` as `U`, when `T` is `U` (decided at compile time).
 #[inline(always)]
-fn is_float<T: AttrValue>() -> bool {
-    matches!(T::TYPE, AttrType::Float)
+fn uncast<T: AttrValue, U: Copy + 'static>(v: &T) -> Option<U> {
+    (v as &dyn Any).downcast_ref::<U>().copied()
+}
+
+/// The dense classes, in slot-id order; [`Class::Other`] slots are `Value`s.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub(crate) enum Class {
+    Float,
+    Vec3,
+    Matrix,
+    Bool,
+    Enum,
+    Other,
+}
+
+impl Class {
+    /// The class a value is stored in.
+    pub(crate) fn of(v: &Value) -> Class {
+        match v {
+            Value::Float(_) => Class::Float,
+            Value::Vec3(_) => Class::Vec3,
+            Value::Matrix(_) => Class::Matrix,
+            Value::Bool(_) => Class::Bool,
+            Value::Enum(_) => Class::Enum,
+            _ => Class::Other,
+        }
+    }
 }
 
 /// An instance's slot values (see the module documentation).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Slots {
     pub floats: Vec<f64>,
+    pub vec3s: Vec<DVec3>,
+    pub mats: Vec<DMat4>,
+    pub bools: Vec<bool>,
+    pub enums: Vec<i64>,
     pub values: Vec<Value>,
+    /// The first slot id of the vec3s, matrices, bools, enums and values.
+    base: [u32; 5],
 }
 
 impl Slots {
-    /// Storage for values in slot order: the leading run of floats goes to the dense array.
+    /// Storage for values in slot order: the leading floats, then the vec3s, matrices,
+    /// bools and enums that follow each other in that order, go to the dense arrays.
     pub(crate) fn from_values(all: Vec<Value>) -> Slots {
-        let lead = Slots::leading_floats(&all);
-        let mut rest = all.into_iter();
-        let floats = rest.by_ref().take(lead).filter_map(|v| v.as_f64()).collect();
+        let mut s = Slots::default();
+        let mut rest = all.into_iter().peekable();
+        let mut take = |class: Class| {
+            let mut run = Vec::new();
+            while let Some(v) = rest.next_if(|v| Class::of(v) == class) {
+                run.push(v);
+            }
+            run
+        };
+        s.floats = take(Class::Float).iter().filter_map(Value::as_f64).collect();
+        s.vec3s = take(Class::Vec3).iter().filter_map(DVec3::from_value).collect();
+        s.mats = take(Class::Matrix).iter().filter_map(DMat4::from_value).collect();
+        s.bools = take(Class::Bool).iter().filter_map(bool::from_value).collect();
+        s.enums = take(Class::Enum).iter().filter_map(i64::from_value).collect();
+        s.values = rest.collect();
+        let mut at = 0u32;
+        for (b, len) in s.base.iter_mut().zip([
+            s.floats.len(),
+            s.vec3s.len(),
+            s.mats.len(),
+            s.bools.len(),
+            s.enums.len(),
+        ]) {
+            at += len as u32;
+            *b = at;
+        }
+        s
+    }
+
+    /// Every value stored as a `Value`, none in the dense arrays (what a program from an
+    /// older binary, numbered without classes, amounts to).
+    #[cfg(test)]
+    pub(crate) fn all_values(values: Vec<Value>) -> Slots {
         Slots {
-            floats,
-            values: rest.collect(),
+            values,
+            ..Slots::default()
         }
     }
 
-    /// How many of `all`, from the start, are floats: the dense store's length.
+    /// How many of `all`, from the start, are floats: the float array's length.
     pub(crate) fn leading_floats(all: &[Value]) -> usize {
         all.iter().take_while(|v| matches!(v, Value::Float(_))).count()
     }
 
-    /// Every slot's value in slot order (floats as [`Value::Float`]).
+    /// Every slot's value in slot order.
     pub(crate) fn to_values(&self) -> Vec<Value> {
-        self.floats
-            .iter()
-            .map(|&x| Value::Float(x))
-            .chain(self.values.iter().cloned())
-            .collect()
+        (0..self.len() as u32).filter_map(|s| self.get(s)).collect()
     }
 
     /// Number of slots.
     pub(crate) fn len(&self) -> usize {
-        self.floats.len() + self.values.len()
+        self.base[4] as usize + self.values.len()
     }
 
-    /// Shared access.
-    #[inline]
-    pub(crate) fn view(&self) -> SlotsRef<'_> {
-        SlotsRef {
-            floats: &self.floats,
-            values: &self.values,
-        }
+    /// Bytes of slot storage (what each instance owns, besides heavy data it shares).
+    pub(crate) fn bytes(&self) -> usize {
+        use std::mem::size_of;
+        self.floats.len() * size_of::<f64>()
+            + self.vec3s.len() * size_of::<DVec3>()
+            + self.mats.len() * size_of::<DMat4>()
+            + self.bools.len()
+            + self.enums.len() * size_of::<i64>()
+            + self.values.len() * size_of::<Value>()
     }
 
-    /// Mutable access.
-    #[inline]
-    pub(crate) fn view_mut(&mut self) -> SlotsMut<'_> {
-        SlotsMut {
-            floats: &mut self.floats,
-            values: &mut self.values,
-        }
-    }
-}
-
-/// Shared access to slots.
-#[derive(Clone, Copy)]
-pub(crate) struct SlotsRef<'a> {
-    pub floats: &'a [f64],
-    pub values: &'a [Value],
-}
-
-impl<'a> SlotsRef<'a> {
-    /// Slot `s` when it is stored as a `Value` (`None` for a float slot or past the end).
+    /// Index of slot `s` in the array of the class starting at `base` (past the end when
+    /// `s` is in another class).
     #[inline(always)]
-    pub(crate) fn value(self, s: u32) -> Option<&'a Value> {
-        self.values.get((s as usize).wrapping_sub(self.floats.len()))
+    fn at(s: u32, base: u32) -> usize {
+        s.wrapping_sub(base) as usize
+    }
+
+    /// Slot `s` when it is stored as a `Value`.
+    #[inline(always)]
+    pub(crate) fn value(&self, s: u32) -> Option<&Value> {
+        self.values.get(Self::at(s, self.base[4]))
+    }
+
+    /// Slot `s` when it is stored as a `Value`, mutably.
+    #[inline(always)]
+    pub(crate) fn value_mut(&mut self, s: u32) -> Option<&mut Value> {
+        self.values.get_mut(Self::at(s, self.base[4]))
     }
 
     /// Slot `s` when it is a float slot.
     #[inline(always)]
-    pub(crate) fn float(self, s: u32) -> Option<f64> {
+    pub(crate) fn float(&self, s: u32) -> Option<f64> {
         self.floats.get(s as usize).copied()
+    }
+
+    /// The value of slot `s`, whatever its array; `None` past the end.
+    pub(crate) fn get(&self, s: u32) -> Option<Value> {
+        let b = self.base;
+        if let Some(&x) = self.floats.get(s as usize) {
+            return Some(Value::Float(x));
+        }
+        if let Some(&x) = self.vec3s.get(Self::at(s, b[0])) {
+            return Some(Value::Vec3(x));
+        }
+        if let Some(&x) = self.mats.get(Self::at(s, b[1])) {
+            return Some(Value::Matrix(x));
+        }
+        if let Some(&x) = self.bools.get(Self::at(s, b[2])) {
+            return Some(Value::Bool(x));
+        }
+        if let Some(&x) = self.enums.get(Self::at(s, b[3])) {
+            return Some(Value::Enum(x));
+        }
+        self.value(s).cloned()
     }
 
     /// Slot `s` as a number (a float slot, or a number value); `None` otherwise.
     #[inline]
-    pub(crate) fn number(self, s: u32) -> Option<f64> {
+    pub(crate) fn number(&self, s: u32) -> Option<f64> {
         match self.float(s) {
             Some(x) => Some(x),
             None => self.value(s)?.as_f64(),
         }
     }
 
+    /// Lane `k` (0, 1, 2) of vec3 slot `s`.
+    #[inline]
+    pub(crate) fn lane(&self, s: u32, k: u8) -> Option<f64> {
+        let v = self.read::<DVec3>(s)?;
+        Some(v[(k as usize).min(2)])
+    }
+
     /// Slot `s` typed; `None` when it holds another type or is past the end.
     #[inline(always)]
-    pub(crate) fn read<T: AttrValue>(self, s: u32) -> Option<T> {
-        if is_float::<T>() {
-            if let Some(x) = self.float(s) {
-                return float_as(x);
-            }
+    pub(crate) fn read<T: AttrValue>(&self, s: u32) -> Option<T> {
+        let b = self.base;
+        let dense = match T::TYPE {
+            crate::AttrType::Float => self.floats.get(s as usize).and_then(|&x| cast(x)),
+            crate::AttrType::Vec3 => self.vec3s.get(Self::at(s, b[0])).and_then(|&x| cast(x)),
+            crate::AttrType::Matrix => self.mats.get(Self::at(s, b[1])).and_then(|&x| cast(x)),
+            crate::AttrType::Bool => self.bools.get(Self::at(s, b[2])).and_then(|&x| cast(x)),
+            crate::AttrType::Enum | crate::AttrType::Int => self.enums.get(Self::at(s, b[3])).and_then(|&x| cast(x)),
+            _ => None,
+        };
+        match dense {
+            Some(v) => Some(v),
+            None => T::from_value(self.value(s)?),
         }
-        T::from_value(self.value(s)?)
     }
 
-    /// Slot `s` typed, by reference; `None` as for [`SlotsRef::read`], and for values that
+    /// Slot `s` typed, by reference; `None` as for [`Slots::read`], and for values that
     /// are converted on reading.
     #[inline(always)]
-    pub(crate) fn read_ref<T: AttrValue>(self, s: u32) -> Option<&'a T> {
-        if is_float::<T>() {
-            if let Some(x) = self.floats.get(s as usize) {
-                return (x as &dyn Any).downcast_ref::<T>();
-            }
-        }
-        T::as_ref(self.value(s)?)
-    }
-}
-
-/// Mutable access to slots.
-pub(crate) struct SlotsMut<'a> {
-    pub floats: &'a mut [f64],
-    pub values: &'a mut [Value],
-}
-
-impl SlotsMut<'_> {
-    /// No slots (the storage of a lazy compute context).
-    pub(crate) fn empty() -> SlotsMut<'static> {
-        SlotsMut {
-            floats: &mut [],
-            values: &mut [],
+    pub(crate) fn read_ref<T: AttrValue>(&self, s: u32) -> Option<&T> {
+        let b = self.base;
+        let dense: Option<&dyn Any> = match T::TYPE {
+            crate::AttrType::Float => self.floats.get(s as usize).map(|x| x as &dyn Any),
+            crate::AttrType::Vec3 => self.vec3s.get(Self::at(s, b[0])).map(|x| x as &dyn Any),
+            crate::AttrType::Matrix => self.mats.get(Self::at(s, b[1])).map(|x| x as &dyn Any),
+            _ => None,
+        };
+        match dense.and_then(|x| x.downcast_ref::<T>()) {
+            Some(v) => Some(v),
+            None => T::as_ref(self.value(s)?),
         }
     }
 
-    /// Shared access.
-    #[inline(always)]
-    pub(crate) fn view(&self) -> SlotsRef<'_> {
-        SlotsRef {
-            floats: self.floats,
-            values: self.values,
-        }
-    }
-
-    /// Slot `s` when it is stored as a `Value`.
-    #[inline(always)]
-    pub(crate) fn value_mut(&mut self, s: u32) -> Option<&mut Value> {
-        let k = (s as usize).wrapping_sub(self.floats.len());
-        self.values.get_mut(k)
-    }
-
-    /// Slot `s` when it is a float slot.
-    #[inline(always)]
-    pub(crate) fn float_mut(&mut self, s: u32) -> Option<&mut f64> {
-        self.floats.get_mut(s as usize)
-    }
-
-    /// Stores `v` in slot `s`. A float slot takes only a float; anything else is ignored
-    /// there (the compiler gives float slots to float attributes only).
+    /// Stores `v` in slot `s`. A dense slot takes only its own type; anything else is
+    /// ignored there (the compiler gives dense slots to attributes of that type only).
     #[inline(always)]
     pub(crate) fn write<T: AttrValue>(&mut self, s: u32, v: T) {
-        if is_float::<T>() {
-            if let Some(x) = self.floats.get_mut(s as usize) {
-                if let Some(f) = (&v as &dyn Any).downcast_ref::<f64>() {
-                    *x = *f;
-                }
-                return;
+        let b = self.base;
+        let stored = match T::TYPE {
+            crate::AttrType::Float => self.floats.get_mut(s as usize).map(|x| *x = uncast(&v).unwrap_or(*x)),
+            crate::AttrType::Vec3 => self
+                .vec3s
+                .get_mut(Self::at(s, b[0]))
+                .map(|x| *x = uncast(&v).unwrap_or(*x)),
+            crate::AttrType::Matrix => self
+                .mats
+                .get_mut(Self::at(s, b[1]))
+                .map(|x| *x = uncast(&v).unwrap_or(*x)),
+            crate::AttrType::Bool => self
+                .bools
+                .get_mut(Self::at(s, b[2]))
+                .map(|x| *x = uncast(&v).unwrap_or(*x)),
+            crate::AttrType::Enum | crate::AttrType::Int => self
+                .enums
+                .get_mut(Self::at(s, b[3]))
+                .map(|x| *x = uncast(&v).unwrap_or(*x)),
+            _ => None,
+        };
+        if stored.is_none() {
+            if let Some(slot) = self.value_mut(s) {
+                v.write_into(slot);
             }
-        }
-        if let Some(slot) = self.value_mut(s) {
-            v.write_into(slot);
         }
     }
 
-    /// Stores an untyped value in slot `s`: a float slot takes only numbers. Returns
-    /// `false`, changing nothing, when `s` is past the end or the value does not fit.
+    /// Stores an untyped value in slot `s`: a dense slot takes only its own type (an int
+    /// for an enum). Returns `false`, changing nothing, when `s` is past the end or the
+    /// value does not fit.
     pub(crate) fn set_value(&mut self, s: u32, v: Value) -> bool {
-        if let Some(x) = self.float_mut(s) {
-            return match v {
-                Value::Float(f) => {
-                    *x = f;
-                    true
-                }
-                _ => false,
-            };
+        let b = self.base;
+        let fits = |x: Option<()>| x.is_some();
+        if (s as usize) < self.floats.len() {
+            return fits(f64::from_value(&v).map(|x| self.floats[s as usize] = x));
+        }
+        if let Some(slot) = self.vec3s.get_mut(Self::at(s, b[0])) {
+            return fits(DVec3::from_value(&v).map(|x| *slot = x));
+        }
+        if let Some(slot) = self.mats.get_mut(Self::at(s, b[1])) {
+            return fits(DMat4::from_value(&v).map(|x| *slot = x));
+        }
+        if let Some(slot) = self.bools.get_mut(Self::at(s, b[2])) {
+            return fits(bool::from_value(&v).map(|x| *slot = x));
+        }
+        if let Some(slot) = self.enums.get_mut(Self::at(s, b[3])) {
+            return fits(i64::from_value(&v).map(|x| *slot = x));
         }
         match self.value_mut(s) {
             Some(slot) => {
@@ -211,65 +294,105 @@ impl SlotsMut<'_> {
             None => false,
         }
     }
+
+    /// Sets lane `k` (0, 1, 2) of vec3 slot `s`; `false` when `s` is not a vec3.
+    pub(crate) fn set_lane(&mut self, s: u32, k: u8, x: f64) -> bool {
+        let k = (k as usize).min(2);
+        if let Some(v) = self.vec3s.get_mut(Self::at(s, self.base[0])) {
+            v[k] = x;
+            return true;
+        }
+        match self.value_mut(s) {
+            Some(Value::Vec3(v)) => {
+                v[k] = x;
+                true
+            }
+            _ => false,
+        }
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::{DMat4, DVec3};
 
     fn sample() -> Slots {
         Slots::from_values(vec![
             Value::Float(1.5),
             Value::Float(-0.0),
             Value::Vec3(DVec3::new(1.0, 2.0, 3.0)),
-            Value::Float(7.0),
             Value::Matrix(DMat4::IDENTITY),
+            Value::Bool(true),
+            Value::Enum(4),
+            Value::Int(9),
+            Value::Float(7.0),
         ])
     }
 
     #[test]
-    fn the_leading_floats_are_dense_and_the_order_is_kept() {
+    fn the_leading_runs_are_dense_and_the_order_is_kept() {
         let s = sample();
-        assert_eq!(s.floats.len(), 2);
-        assert_eq!(s.values.len(), 3);
-        assert_eq!(s.len(), 5);
+        assert_eq!(
+            (
+                s.floats.len(),
+                s.vec3s.len(),
+                s.mats.len(),
+                s.bools.len(),
+                s.enums.len(),
+                s.values.len()
+            ),
+            (2, 1, 1, 1, 1, 2)
+        );
+        assert_eq!(s.len(), 8);
         let back = s.to_values();
-        assert_eq!(back.len(), 5);
+        assert_eq!(back.len(), 8);
         assert!(back[1].same_bits(&Value::Float(-0.0)));
-        assert!(back[3].same_bits(&Value::Float(7.0)));
+        assert!(back[5].same_bits(&Value::Enum(4)));
+        assert!(back[6].same_bits(&Value::Int(9)));
+        assert!(back[7].same_bits(&Value::Float(7.0)));
+        assert_eq!(s.bytes(), 2 * 8 + 24 + 128 + 1 + 8 + 2 * std::mem::size_of::<Value>());
     }
 
     #[test]
-    fn typed_reads_find_each_store() {
+    fn typed_reads_find_each_array() {
         let s = sample();
-        let v = s.view();
-        assert_eq!(v.read::<f64>(0), Some(1.5));
-        assert_eq!(v.read_ref::<f64>(1).map(|x| x.to_bits()), Some((-0.0f64).to_bits()));
-        assert_eq!(v.read::<DVec3>(2), Some(DVec3::new(1.0, 2.0, 3.0)));
+        assert_eq!(s.read::<f64>(0), Some(1.5));
+        assert_eq!(s.read_ref::<f64>(1).map(|x| x.to_bits()), Some((-0.0f64).to_bits()));
+        assert_eq!(s.read::<DVec3>(2), Some(DVec3::new(1.0, 2.0, 3.0)));
+        assert_eq!(s.read_ref::<DMat4>(3), Some(&DMat4::IDENTITY));
+        assert_eq!(s.read::<bool>(4), Some(true));
+        assert_eq!(s.read::<i64>(5), Some(4));
+        assert_eq!(s.read::<i64>(6), Some(9));
         // A float stored as a value (after the leading run) reads the same way.
-        assert_eq!(v.read::<f64>(3), Some(7.0));
-        assert_eq!(v.read_ref::<DMat4>(4), Some(&DMat4::IDENTITY));
-        assert_eq!(v.read::<DVec3>(0), None);
-        assert_eq!(v.read::<f64>(2), None);
-        assert_eq!(v.read::<f64>(5), None);
-        assert_eq!(v.number(3), Some(7.0));
-        assert!(v.value(5).is_none() && v.float(5).is_none());
+        assert_eq!(s.read::<f64>(7), Some(7.0));
+        assert_eq!(s.read::<DVec3>(0), None);
+        assert_eq!(s.read::<f64>(2), None);
+        assert_eq!(s.read::<bool>(5), None);
+        assert_eq!(s.read::<f64>(8), None);
+        assert_eq!(s.number(7), Some(7.0));
+        assert_eq!(s.lane(2, 1), Some(2.0));
+        assert!(s.get(8).is_none());
     }
 
     #[test]
     fn writes_keep_each_slot_its_type() {
         let mut s = sample();
-        let mut m = s.view_mut();
-        m.write(0, 2.5f64);
-        m.write(0, DVec3::ONE); // not a float: ignored
-        m.write(2, DVec3::ZERO);
-        assert!(!m.set_value(1, Value::Int(3)));
-        assert!(m.set_value(1, Value::Float(4.0)));
-        assert!(!m.set_value(9, Value::Float(4.0)));
-        let v = s.view();
-        assert_eq!(v.read::<f64>(0), Some(2.5));
-        assert_eq!(v.read::<f64>(1), Some(4.0));
-        assert_eq!(v.read::<DVec3>(2), Some(DVec3::ZERO));
+        s.write(0, 2.5f64);
+        s.write(0, DVec3::ONE); // not a float: ignored
+        s.write(2, DVec3::ZERO);
+        s.write(4, false);
+        s.write(5, 2i64);
+        assert!(!s.set_value(1, Value::Int(3)));
+        assert!(s.set_value(1, Value::Float(4.0)));
+        assert!(s.set_value(5, Value::Int(3)));
+        assert!(!s.set_value(3, Value::Float(4.0)));
+        assert!(!s.set_value(9, Value::Float(4.0)));
+        assert!(s.set_lane(2, 2, 8.0));
+        assert!(!s.set_lane(0, 2, 8.0));
+        assert_eq!(s.read::<f64>(0), Some(2.5));
+        assert_eq!(s.read::<f64>(1), Some(4.0));
+        assert_eq!(s.read::<DVec3>(2), Some(DVec3::new(0.0, 0.0, 8.0)));
+        assert_eq!(s.read::<bool>(4), Some(false));
+        assert!(s.get(5).is_some_and(|v| v.same_bits(&Value::Enum(3))));
     }
 }

@@ -227,8 +227,10 @@ impl Schedule {
         for item in &self.items {
             match item {
                 Item::Step(i) => {
-                    let Some(step) = self.steps.get(*i as usize) else { continue };
-                    if let Err(e) = run_step(step, attr_bindings, tables, slots.view_mut(), time) {
+                    let Some(step) = self.steps.get(*i as usize) else {
+                        continue;
+                    };
+                    if let Err(e) = run_step(step, attr_bindings, tables, slots, time) {
                         return Err((step, e));
                     }
                 }
@@ -237,7 +239,7 @@ impl Schedule {
                         // Not this program's slots: step by step, as the general path would.
                         let n = tape.ops.len();
                         for step in self.steps.iter().skip(*first as usize).take(n) {
-                            if let Err(e) = run_step(step, attr_bindings, tables, slots.view_mut(), time) {
+                            if let Err(e) = run_step(step, attr_bindings, tables, slots, time) {
                                 return Err((step, e));
                             }
                         }
@@ -267,7 +269,10 @@ impl KernelStep {
     /// all lie in a float store of `floats` slots.
     pub(crate) fn whole_slots(&self, floats: usize) -> Option<(Arith, u32, u32, u32)> {
         let (arith, a, b, out) = self.shape()?;
-        [a, b, out].iter().all(|&s| (s as usize) < floats).then_some((arith, a, b, out))
+        [a, b, out]
+            .iter()
+            .all(|&s| (s as usize) < floats)
+            .then_some((arith, a, b, out))
     }
 }
 

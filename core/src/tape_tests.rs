@@ -80,7 +80,9 @@ fn a_chain_of_one_type_is_one_run_taking_the_previous_result_from_a_register() {
     let (_, program) = chain(&[4; 6], &[false; 6], &[1.5; 6]);
     let frame = &program.frame_schedule;
     assert_eq!(frame.taped(), n);
-    let Some(Item::Tape { tape, .. }) = frame.items.first() else { panic!("a tape") };
+    let Some(Item::Tape { tape, .. }) = frame.items.first() else {
+        panic!("a tape")
+    };
     // Node 0 reads both its inputs from slots; the five after it chain through `x`.
     let codes: Vec<(Code, u32)> = tape.runs.iter().map(|r| (r.code, r.len)).collect();
     assert_eq!(codes, vec![(Code::MulFinite, 1), (Code::MulFinitePA, 5)]);
@@ -114,10 +116,7 @@ fn a_shorter_float_store_runs_the_steps_instead() {
     let mut inst = Instance::new(program);
     agree(&mut g, &mut inst, 3, false, 4.0);
     let slots = inst.slots_mut();
-    *slots = Slots {
-        floats: Vec::new(),
-        values: slots.to_values(),
-    };
+    *slots = Slots::all_values(slots.to_values());
     agree(&mut g, &mut inst, 3, false, 5.0);
     agree(&mut g, &mut inst, 3, false, -1e300);
 }

@@ -13,6 +13,7 @@
 use super::{Graph, NodeId, Plug};
 use crate::error::{Error, Result};
 use crate::node::{ComputeContext, Time};
+use crate::slots::Slots;
 use crate::spec::AttrId;
 use crate::value::Value;
 
@@ -301,7 +302,9 @@ impl Graph {
                         .any(|e| e.changed_at > gs.verified_at)
                 });
             if changed {
-                let mut ctx = ComputeContext::lazy(&mut data.attrs, rev, &*kind, g, time);
+                // A lazy context reads and writes the plugs' stores, never compiled slots.
+                let mut no_slots = Slots::default();
+                let mut ctx = ComputeContext::lazy(&mut no_slots, &mut data.attrs, rev, &*kind, g, time);
                 let result = kind.compute(&mut ctx);
                 self.stats.computes += 1;
                 if let Err(e) = result {
