@@ -7,6 +7,8 @@ use std::fmt;
 
 use glam::{DMat3, DMat4, DQuat, DVec3};
 
+pub(super) use super::rest_memo::RootFrame;
+
 /// Lengths and distances below this are treated as zero.
 pub(super) const EPS: f64 = 1e-12;
 
@@ -254,6 +256,8 @@ pub(super) struct Prepared {
     pub joints: Vec<ChainJoint>,
     /// Preferred rotations, normalized.
     pub rest_rot: Vec<DQuat>,
+    /// The start joint's [`RootFrame`] (meaningless without joints).
+    pub root: RootFrame,
     /// `parent_world`.
     pub to_world: DMat4,
     /// Inverse of `parent_world`.
@@ -308,6 +312,9 @@ impl Prepared {
             });
         }
         self.rest_rot.extend(self.joints.iter().map(|j| j.preferred));
+        if let Some(j) = self.joints.first() {
+            self.root = RootFrame::new(j);
+        }
         Ok(())
     }
 
@@ -420,12 +427,22 @@ impl Prepared {
         let n = self.joints.len().min(solved);
         // Work whose result cannot be used is skipped (same bits): the position and carried
         // frame past the last aimed joint, and the bone axis when there is no twist.
+        // The start joint's frame and rest orientation are rest data (`self.root`, the same
+        // products with `qp` the identity and `out[0]` its rest rotation).
         for (i, j) in self.joints.iter().enumerate().take(n) {
-            let frame = (qp * j.joint_orient).normalize();
+            let frame = if i == 0 {
+                self.root.frame
+            } else {
+                (qp * j.joint_orient).normalize()
+            };
             let mut delta = if i == 0 { root_pre } else { DQuat::IDENTITY };
             if let (Some(child), Some(&target)) = (self.joints.get(i + 1), targets.get(i + 1)) {
                 p += qp * j.translate;
-                let q = frame * out[i] * j.rotate_axis;
+                let q = if i == 0 {
+                    self.root.rest
+                } else {
+                    frame * out[i] * j.rotate_axis
+                };
                 let v = delta * q * child.translate;
                 let w = target - p;
                 delta = aim(v, w, fallback_axis) * delta;

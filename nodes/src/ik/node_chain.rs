@@ -86,8 +86,26 @@ pub(super) struct ChainRead {
 }
 
 impl ChainRead {
+    /// True when every chain input is finite, in one branch-free pass: `x * 0.0` is 0 for a
+    /// finite `x` and NaN otherwise, and NaN survives the sum.
+    pub fn all_finite(&self) -> bool {
+        let mut acc = self.ik_blend * 0.0;
+        for c in self.parent.to_cols_array() {
+            acc += c * 0.0;
+        }
+        for j in &self.joints {
+            for v in [j.translate, j.orient, j.rotate_axis, j.preferred, j.fk] {
+                acc += v.x * 0.0 + v.y * 0.0 + v.z * 0.0;
+            }
+        }
+        acc == 0.0
+    }
+
     /// The first non-finite chain input, by attribute name.
     pub fn non_finite(&self) -> Option<&'static str> {
+        if self.all_finite() {
+            return None;
+        }
         if !self.parent.is_finite() {
             return Some("startParentMatrix");
         }
@@ -120,15 +138,21 @@ impl ChainRead {
     /// quaternions; non-finite values count as 0).
     ///
     /// The angle conversions go through `memo` (same bits as converting directly).
-    pub fn chain_into(&self, out: &mut Chain, memo: &mut EulerMemo) {
-        out.parent_world = if self.parent.is_finite() {
+    /// `all_finite` must be [`Self::all_finite`] (callers have it already): when true, nothing
+    /// needs replacing.
+    pub fn chain_into(&self, out: &mut Chain, memo: &mut EulerMemo, all_finite: bool) {
+        out.parent_world = if all_finite || self.parent.is_finite() {
             self.parent
         } else {
             DMat4::IDENTITY
         };
         out.joints.clear();
         out.joints.extend(self.joints.iter().map(|j| ChainJoint {
-            translate: finite_or_zero(j.translate),
+            translate: if all_finite {
+                j.translate
+            } else {
+                finite_or_zero(j.translate)
+            },
             joint_orient: memo.quat(j.orient, RotateOrder::Xyz),
             rotate_axis: memo.quat(j.rotate_axis, RotateOrder::Xyz),
             preferred: memo.quat(j.preferred, j.order),
@@ -437,7 +461,7 @@ impl ChainOutputs {
         }
         ctx.set(self.status, pose.status);
         // The message rarely changes: rewrite it (allocating) only when it does.
-        if *ctx.get_output(self.status_message) != *pose.message {
+        if ctx.with_output_ref(self.status_message, |m| **m != *pose.message) {
             ctx.set(self.status_message, Arc::from(&*pose.message));
         }
         if self.error_kind == ErrorKind::FromSolve {

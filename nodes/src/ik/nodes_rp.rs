@@ -77,11 +77,12 @@ impl GoalInputs {
 
     /// Reads the goal inputs.
     pub fn read(&self, ctx: &ComputeContext<'_>) -> GoalRead {
-        let m = ctx.get(self.goal_matrix);
+        // Only the translation and finiteness of the matrix are used: read it in place.
+        let (goal, goal_finite) = ctx.with_ref(self.goal_matrix, |m| (m.w_axis.truncate(), m.is_finite()));
         let max_stretch = ctx.get(self.max_stretch);
         let soft = ctx.get(self.soft);
         let tolerance = ctx.get(self.tolerance);
-        let non_finite = if !m.is_finite() {
+        let non_finite = if !goal_finite {
             Some("goalMatrix")
         } else if !max_stretch.is_finite() {
             Some("maxStretch")
@@ -94,7 +95,7 @@ impl GoalInputs {
         };
         let iters = ctx.get(self.max_iterations).clamp(0, MAX_ITERATIONS_CAP);
         GoalRead {
-            goal: m.w_axis.truncate(),
+            goal,
             reach: ReachParams {
                 stretch: ctx.get(self.stretch),
                 max_stretch: if max_stretch > 0.0 { max_stretch } else { f64::INFINITY },
@@ -132,8 +133,9 @@ pub(super) fn solve_and_write(
         solvers,
         euler,
     } = ns;
-    read.chain_into(chain, euler);
-    let bad = read.non_finite().or(goal.non_finite).or(extra_non_finite);
+    let read_bad = read.non_finite();
+    read.chain_into(chain, euler, read_bad.is_none());
+    let bad = read_bad.or(goal.non_finite).or(extra_non_finite);
     let needed = outputs.rotate_needed(ctx, read);
     match bad {
         Some(name) => *sol = IkSolution::invalid(chain, IkError::NonFinite(name)),

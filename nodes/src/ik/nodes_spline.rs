@@ -116,8 +116,9 @@ impl IkSpline {
         let roll = ctx.get(self.roll);
         let twist = ctx.get(self.twist);
         let max_stretch = ctx.get(self.max_stretch);
-        read.chain_into(chain, euler);
-        let bad = read.non_finite().or_else(|| {
+        let read_bad = read.non_finite();
+        read.chain_into(chain, euler, read_bad.is_none());
+        let bad = read_bad.or_else(|| {
             [
                 (offset, "offset"),
                 (roll, "roll"),

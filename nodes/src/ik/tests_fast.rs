@@ -1,16 +1,18 @@
-//! Tests of the per-frame fast paths: reused buffers, the Euler memo, skipped unread joints and
-//! the Lagrange arc-length table give the results of the straightforward computation.
+//! Tests of the per-frame fast paths: reused buffers, the Euler and rest memos, skipped unread
+//! joints, the finiteness check and the Lagrange arc-length table give the results of the
+//! straightforward computation.
 
 use std::sync::Arc;
 
 use glam::{DMat4, DQuat, DVec3};
 use sinew_core::{CompileOptions, Instance, Program, Time, Value};
 
-use super::chain::{Chain, ChainJoint, IkSolution};
+use super::chain::{aim, Chain, ChainJoint, IkSolution, Prepared};
 use super::curve::{ArcLengthTable, BSpline, Curve, CurveForm};
 use super::iterative::IterParams;
-use super::node_chain::rad;
+use super::node_chain::{rad, ChainRead, JointData};
 use super::node_scratch::{EulerMemo, Needed};
+use super::rest_memo::RestMemo;
 use super::soft::ReachParams;
 use super::spline::{solve_spline, solve_spline_into, SplineParams, SplineScratch};
 use super::tests_nodes::{add_chain, graph, set};
@@ -312,4 +314,127 @@ fn unread_joints_do_not_change_the_read_ones() {
     assert!(one.same_bits(&every), "{one:?} vs {every:?}");
     assert!(alone.get_path("ik.outRotate[1]").unwrap().same_bits(&every));
     assert!(all.get_path("ik.outRotate[1]").unwrap().same_bits(&every));
+}
+
+/// [`Prepared::rotations_from_positions_into`] as it was before the start joint's frame came
+/// from [`Prepared::root`]: every product computed in the loop.
+fn rotations_reference(prep: &Prepared, targets: &[DVec3], root_pre: DQuat, twist: Option<&[f64]>) -> Vec<DQuat> {
+    let mut out = prep.rest_rot.clone();
+    let (mut p, mut qp) = (DVec3::ZERO, std::hint::black_box(DQuat::IDENTITY));
+    let mut axis = DVec3::ZERO;
+    let n = prep.joints.len();
+    for (i, j) in prep.joints.iter().enumerate() {
+        let frame = (qp * j.joint_orient).normalize();
+        let mut delta = if i == 0 { root_pre } else { DQuat::IDENTITY };
+        if let (Some(child), Some(&target)) = (prep.joints.get(i + 1), targets.get(i + 1)) {
+            p += qp * j.translate;
+            let q = frame * out[i] * j.rotate_axis;
+            let v = delta * q * child.translate;
+            delta = aim(v, target - p, DVec3::Z) * delta;
+            if let Some(a) = (delta * q * child.translate).try_normalize() {
+                axis = a;
+            }
+        }
+        if let Some(&angle) = twist.and_then(|t| t.get(i)) {
+            if angle != 0.0 && axis != DVec3::ZERO {
+                delta = DQuat::from_axis_angle(axis, angle) * delta;
+            }
+        }
+        out[i] = (frame.inverse() * delta * frame * out[i]).normalize();
+        if i + 1 < n {
+            qp = (frame * out[i] * j.rotate_axis).normalize();
+        }
+    }
+    out
+}
+
+#[test]
+fn root_frame_gives_the_bits_of_the_full_loop() {
+    // Random chains with jointOrient, rotateAxis and preferred rotations (and plain ones), with and
+    // without twist, prepared directly and through the rest memo (hits on later rounds).
+    let mut rng = Lcg(29);
+    let mut memo = RestMemo::default();
+    let chains: Vec<Chain> = (0..6)
+        .map(|i| {
+            let mut c = random_chain(&mut rng, 2 + i % 4);
+            if i % 2 == 0 {
+                c.joints[0].rotate_axis = rng.q();
+                c.joints[0].preferred = rng.q();
+            }
+            if i == 5 {
+                c.joints.iter_mut().for_each(|j| *j = ChainJoint::new(j.translate));
+            }
+            c
+        })
+        .collect();
+    for round in 0..3 {
+        for (i, chain) in chains.iter().enumerate() {
+            let targets: Vec<DVec3> = chain.joints.iter().map(|_| rng.v(3.0)).collect();
+            let twist: Vec<f64> = chain.joints.iter().map(|_| rng.f(-2.0, 2.0)).collect();
+            let root_pre = rng.q();
+            let direct = Prepared::new(chain).unwrap();
+            let mut memoized = Prepared::default();
+            memo.refill(&mut memoized, chain).unwrap();
+            for prep in [&direct, &memoized] {
+                for tw in [None, Some(&twist[..])] {
+                    let mut out = Vec::new();
+                    prep.rotations_from_positions_into(&targets, root_pre, DVec3::Z, tw, usize::MAX, &mut out);
+                    let want = rotations_reference(prep, &targets, root_pre, tw);
+                    assert!(same_quats(&out, &want), "round {round} chain {i}");
+                }
+            }
+        }
+    }
+}
+
+/// A vec3 field of a joint's read data.
+type Field = fn(&mut JointData) -> &mut DVec3;
+
+#[test]
+fn all_finite_agrees_with_the_named_check() {
+    // Finite extremes (huge, tiny, -0) are finite; NaN or an infinity in any input is caught and
+    // named as before (the first in attribute order).
+    let joint = |t: DVec3| JointData {
+        index: 0,
+        translate: t,
+        orient: DVec3::new(-0.0, 1e-310, f64::MAX),
+        rotate_axis: DVec3::new(f64::MIN, 0.0, -0.0),
+        order: RotateOrder::Zxy,
+        preferred: DVec3::splat(3.0),
+        fk: DVec3::splat(-7.5),
+    };
+    let read = ChainRead {
+        parent: DMat4::from_cols_array(&[f64::MAX; 16]),
+        joints: vec![joint(DVec3::ONE), joint(DVec3::new(-0.0, 2.0, 1e300))],
+        ik_blend: -0.0,
+    };
+    assert!(read.all_finite());
+    assert_eq!(read.non_finite(), None);
+    for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        let mut r = read.clone();
+        r.ik_blend = bad;
+        assert_eq!((r.all_finite(), r.non_finite()), (false, Some("ikBlend")));
+        let mut r = read.clone();
+        let mut cols = r.parent.to_cols_array();
+        cols[13] = bad;
+        r.parent = DMat4::from_cols_array(&cols);
+        assert_eq!((r.all_finite(), r.non_finite()), (false, Some("startParentMatrix")));
+        let fields: [(&str, Field); 5] = [
+            ("jointTranslate", |j| &mut j.translate),
+            ("jointOrient", |j| &mut j.orient),
+            ("jointRotateAxis", |j| &mut j.rotate_axis),
+            ("preferredAngle", |j| &mut j.preferred),
+            ("fkRotate", |j| &mut j.fk),
+        ];
+        for (name, field) in fields {
+            for (k, c) in [(0, 2), (1, 0)] {
+                let mut r = read.clone();
+                field(&mut r.joints[k])[c] = bad;
+                assert_eq!((r.all_finite(), r.non_finite()), (false, Some(name)), "{name}[{k}]");
+                // An earlier field of the same joint breaks ties in attribute order.
+                r.joints[k].translate.y = f64::NAN;
+                assert_eq!(r.non_finite(), Some("jointTranslate"));
+            }
+        }
+    }
 }
