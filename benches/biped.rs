@@ -1,7 +1,7 @@
 //! The whole example biped (graphs/examples/biped/biped.ron) per frame: compiled (the per-frame
 //! schedule; pruned to the joints' world matrices as authored, arms in FK, and with both arms
 //! switched to IK; every step) against lazy evaluation (set the time, pull every joint's world
-//! matrix). Criterion's `elem/s` is nodes per second (divide 1e9 by it for ns per node).
+//! matrix, typed, as an engine reads it). Criterion's `elem/s` is nodes per second (divide 1e9 by it for ns per node).
 //!
 //! Run: `cargo bench --bench biped`.
 
@@ -10,6 +10,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use glam::DMat4;
 use sinew::prelude::*;
 
 fn biped(c: &mut Criterion) {
@@ -97,7 +98,7 @@ fn frames(b: &mut criterion::Bencher<'_>, inst: &mut Instance, handles: &[PlugHa
             inst.evaluate(time).expect("eval");
         }
         for h in handles {
-            black_box(inst.get(h));
+            black_box(inst.get_typed::<DMat4>(h));
         }
     })
 }
