@@ -18,6 +18,7 @@ pub mod program;
 pub mod program_bin;
 mod program_codec;
 mod program_compile;
+mod program_layout;
 pub mod registry;
 pub mod rig;
 mod slots;

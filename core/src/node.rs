@@ -317,10 +317,21 @@ impl<'a> ComputeContext<'a> {
         Some((idx, v))
     }
 
+    /// The position among the existing elements of `id` of the one with logical index
+    /// `index`: tried at position `index` first (dense indices, the common case), then
+    /// searched.
+    fn position_of(&self, id: AttrId, index: u32) -> Option<usize> {
+        let n = self.elem_count(id);
+        let guess = index as usize;
+        if guess < n && self.elem_index(id, guess) == Some(index) {
+            return Some(guess);
+        }
+        (0..n).find(|&k| self.elem_index(id, k) == Some(index))
+    }
+
     /// The element with logical index `index` of a multi input, if it exists.
     pub fn get_at<T: AttrValue>(&self, h: MultiInput<T>, index: u32) -> Option<T> {
-        let n = self.elem_count(h.id());
-        let k = (0..n).find(|&k| self.elem_index(h.id(), k) == Some(index))?;
+        let k = self.position_of(h.id(), index)?;
         self.read_with(h.id(), k)
     }
 
@@ -395,8 +406,7 @@ impl<'a> ComputeContext<'a> {
 
     /// Writes element `index` of a multi output (ignored when nothing reads that element).
     pub fn set_at<T: AttrValue>(&mut self, h: MultiOutput<T>, index: u32, v: T) {
-        let n = self.elem_count(h.id());
-        if let Some(k) = (0..n).find(|&k| self.elem_index(h.id(), k) == Some(index)) {
+        if let Some(k) = self.position_of(h.id(), index) {
             self.write(h.id(), k, v);
         }
     }

@@ -12,6 +12,7 @@ use crate::program::{
     frame_schedule, Assembly, AttrBinding, Binding, CompileOptions, CompiledTables, ElemBinding, GuardedSchedule,
     NodeEntry, Program, Step,
 };
+use crate::program_layout;
 use crate::slots::{Class, Slots};
 use crate::spec::{AttrId, Direction};
 use crate::value::Value;
@@ -185,7 +186,7 @@ impl<'g> Compiler<'g> {
                 ab.set_head(elems.get(first as usize).map(|e| e.binding));
             }
         }
-        let tables = CompiledTables {
+        let mut tables = CompiledTables {
             elems,
             assemblies: std::mem::take(&mut self.assemblies),
         };
@@ -327,7 +328,7 @@ impl<'g> Compiler<'g> {
         });
         // Handles are refused for outputs the smaller schedule may leave stale.
         let computed = selective.as_ref().map_or(&needed, |s| &s.needed);
-        let pruned_slot = producer
+        let mut pruned_slot: Vec<bool> = producer
             .iter()
             .map(|p| p.is_some_and(|d| !computed[d as usize]))
             .collect();
@@ -361,9 +362,30 @@ impl<'g> Compiler<'g> {
             .enumerate()
             .map(|(i, e)| (e.name.clone(), i as u32))
             .collect();
-        let own_input_slot = self.output_slot_producer.iter().map(|p| p.is_none()).collect();
+        let mut own_input_slot: Vec<bool> = self.output_slot_producer.iter().map(|p| p.is_none()).collect();
+        // Slots in the order the usual frame first touches them (see `program_layout`).
+        let mut selective = selective.map(|s| (s.frame_steps, s.guards));
+        let frame: Vec<&Step> = match &selective {
+            Some((guarded_steps, _)) => guarded_steps.iter().filter_map(|&k| sorted.get(k as usize)).collect(),
+            None => frame_steps.iter().filter_map(|&k| sorted.get(k as usize)).collect(),
+        };
+        let new_id = program_layout::touch_order(&initial, &frame, &attr_bindings, &tables);
+        let mut initial = initial;
+        program_layout::Renumber {
+            attr_bindings: &mut attr_bindings,
+            tables: &mut tables,
+            initial: &mut initial,
+            flags: [&mut dynamic_slot, &mut own_input_slot, &mut pruned_slot],
+            guards: selective.as_mut().map_or(&mut [], |s| &mut s.1[..]),
+        }
+        .apply(&new_id);
+        // The kernels hold slot ids: bind them again.
+        let sorted: Vec<Step> = sorted
+            .into_iter()
+            .map(|s| Step::new(s.kind, s.node, s.attr_base, s.group, &attr_bindings))
+            .collect();
         let floats = initial.floats.len();
-        let guarded = selective.map(|s| GuardedSchedule::new(&sorted, s.frame_steps, s.guards, floats));
+        let guarded = selective.map(|(steps, guards)| GuardedSchedule::new(&sorted, steps, guards, floats));
         Ok(Program {
             guarded,
             frame_schedule: frame_schedule(&sorted, &frame_steps, floats),
