@@ -237,28 +237,29 @@ impl Slots {
     /// ignored there (the compiler gives dense slots to attributes of that type only).
     #[inline(always)]
     pub(crate) fn write<T: AttrValue>(&mut self, s: u32, v: T) {
+        /// Stores `v` into `slot` when `T` is `U`; `false` when there is no such slot.
+        #[inline(always)]
+        fn put<T: AttrValue, U: Copy + 'static>(slot: Option<&mut U>, v: &T) -> bool {
+            match slot {
+                Some(x) => {
+                    if let Some(u) = uncast::<T, U>(v) {
+                        *x = u;
+                    }
+                    true
+                }
+                None => false,
+            }
+        }
         let b = self.base;
         let stored = match T::TYPE {
-            crate::AttrType::Float => self.floats.get_mut(s as usize).map(|x| *x = uncast(&v).unwrap_or(*x)),
-            crate::AttrType::Vec3 => self
-                .vec3s
-                .get_mut(Self::at(s, b[0]))
-                .map(|x| *x = uncast(&v).unwrap_or(*x)),
-            crate::AttrType::Matrix => self
-                .mats
-                .get_mut(Self::at(s, b[1]))
-                .map(|x| *x = uncast(&v).unwrap_or(*x)),
-            crate::AttrType::Bool => self
-                .bools
-                .get_mut(Self::at(s, b[2]))
-                .map(|x| *x = uncast(&v).unwrap_or(*x)),
-            crate::AttrType::Enum | crate::AttrType::Int => self
-                .enums
-                .get_mut(Self::at(s, b[3]))
-                .map(|x| *x = uncast(&v).unwrap_or(*x)),
-            _ => None,
+            crate::AttrType::Float => put(self.floats.get_mut(s as usize), &v),
+            crate::AttrType::Vec3 => put(self.vec3s.get_mut(Self::at(s, b[0])), &v),
+            crate::AttrType::Matrix => put(self.mats.get_mut(Self::at(s, b[1])), &v),
+            crate::AttrType::Bool => put(self.bools.get_mut(Self::at(s, b[2])), &v),
+            crate::AttrType::Enum | crate::AttrType::Int => put(self.enums.get_mut(Self::at(s, b[3])), &v),
+            _ => false,
         };
-        if stored.is_none() {
+        if !stored {
             if let Some(slot) = self.value_mut(s) {
                 v.write_into(slot);
             }
