@@ -1,6 +1,7 @@
 //! Frame schedules: the steps a frame runs, with every run of consecutive scalar-kernel
 //! steps (`add`, `multDoubleLinear`, `unitConversion`...) over the dense float store
-//! packed into a tape of 16-byte operations.
+//! packed into a tape: 12-byte operations grouped into runs of one code, each run a tight
+//! loop with no dispatch per operation.
 //!
 //! A tape operation reads two float slots, applies its arithmetic and stores the result.
 //! When an operation reads the result of the one before it (a chain of utility nodes),
