@@ -11,6 +11,7 @@ pub mod data;
 pub mod error;
 pub mod graph;
 pub mod inactive;
+mod instance;
 pub mod kernel;
 pub mod node;
 pub mod path;

@@ -9,18 +9,20 @@
 //! dirty flags and no allocation; only steps downstream of time-dependent
 //! nodes and of inputs declared dynamic re-run per frame. The compute
 //! functions are the very ones the lazy graph calls, so results are
-//! bit-identical. The compiler itself is in `program_compile.rs`.
+//! bit-identical. The compiler itself is in `program_compile.rs`, instances in
+//! `instance.rs`.
 
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use rayon::prelude::*;
+pub(crate) use crate::instance::run_step;
+pub use crate::instance::{evaluate_batch, Instance};
 
-use crate::error::{nearest, ComputeError, Error, Result};
+use crate::error::{nearest, Error, Result};
 use crate::graph::{Graph, Plug};
 use crate::inactive::Guard;
 use crate::kernel::KernelStep;
-use crate::node::{ComputeContext, NodeType, Time};
+use crate::node::NodeType;
 use crate::path::{parse_plug_path, resolve_attr, AttrLookupError};
 use crate::slots::Slots;
 use crate::spec::{Direction, NodeSpec};
@@ -292,10 +294,10 @@ impl std::fmt::Debug for Program {
 /// (no string lookup per frame).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PlugHandle {
-    binding: Binding,
-    ty: AttrType,
+    pub(crate) binding: Binding,
+    pub(crate) ty: AttrType,
     /// The slot and lane written by `set`, when the plug is an unconnected input.
-    settable: Option<(u32, Option<u8>)>,
+    pub(crate) settable: Option<(u32, Option<u8>)>,
 }
 
 impl PlugHandle {
@@ -437,205 +439,7 @@ impl Program {
     }
 
     /// The name of the node a step belongs to (for messages).
-    fn step_node_name(&self, step: &Step) -> &str {
+    pub(crate) fn step_node_name(&self, step: &Step) -> &str {
         &self.nodes[step.node as usize].name
     }
-}
-
-/// One evaluation state of a program: its own slot values.
-pub struct Instance {
-    program: Arc<Program>,
-    slots: Slots,
-    needs_full: bool,
-    /// The last full evaluation found every guard of the guarded schedule holding.
-    guarded: bool,
-}
-
-impl std::fmt::Debug for Instance {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Instance")
-            .field("slots", &self.slots.len())
-            .field("needs_full", &self.needs_full)
-            .field("guarded", &self.guarded)
-            .finish()
-    }
-}
-
-impl Clone for Instance {
-    fn clone(&self) -> Self {
-        Instance {
-            program: self.program.clone(),
-            slots: self.slots.clone(),
-            needs_full: self.needs_full,
-            guarded: self.guarded,
-        }
-    }
-}
-
-impl Instance {
-    /// A new instance with the values the graph had at compile time.
-    pub fn new(program: Arc<Program>) -> Self {
-        let slots = program.initial.clone();
-        Instance {
-            program,
-            slots,
-            needs_full: true,
-            guarded: false,
-        }
-    }
-
-    /// The program this instance runs.
-    pub fn program(&self) -> &Arc<Program> {
-        &self.program
-    }
-
-    /// Sets an unconnected input through its handle.
-    pub fn set(&mut self, h: &PlugHandle, value: Value) -> Result<()> {
-        let Some((slot, comp)) = h.settable else {
-            return Err(Error::Program(
-                "this plug is an output or is driven by a connection; it cannot be set".into(),
-            ));
-        };
-        let value = match (h.ty, value) {
-            (AttrType::Enum, Value::Int(i)) => Value::Enum(i),
-            (AttrType::Int, Value::Enum(i)) => Value::Int(i),
-            (_, v) => v,
-        };
-        if value.attr_type() != h.ty {
-            return Err(Error::Program(format!(
-                "the plug is {} but the value is {}",
-                h.ty,
-                value.attr_type()
-            )));
-        }
-        if !value.is_finite() {
-            return Err(Error::Program("value is not finite (NaN or infinity)".into()));
-        }
-        let stored = match comp {
-            Some(k) => self.slots.set_lane(slot, k, value.as_f64().unwrap_or(0.0)),
-            None => self.slots.set_value(slot, value),
-        };
-        if !stored {
-            return Err(Error::Program("handle does not belong to this program".into()));
-        }
-        if !self.program.dynamic_slot.get(slot as usize).copied().unwrap_or(false) {
-            self.needs_full = true;
-        }
-        Ok(())
-    }
-
-    /// Sets a typed value through a handle.
-    pub fn set_typed<T: AttrValue>(&mut self, h: &PlugHandle, value: T) -> Result<()> {
-        self.set(h, value.into_value())
-    }
-
-    /// Reads the current value of a plug.
-    pub fn get(&self, h: &PlugHandle) -> Value {
-        self.program.tables.resolve(&self.slots, h.binding)
-    }
-
-    /// Reads a typed value (`None` when the handle's type differs).
-    pub fn get_typed<T: AttrValue>(&self, h: &PlugHandle) -> Option<T> {
-        self.program.tables.read(&self.slots, h.binding)
-    }
-
-    /// Evaluates the program at `time`: the whole program on the first call
-    /// or after a non-dynamic input changed, otherwise only the frame steps
-    /// (the guarded schedule's while its guards hold).
-    pub fn evaluate(&mut self, time: Time) -> Result<()> {
-        let program = self.program.clone();
-        if self.needs_full {
-            run_steps(&program, program.steps.iter(), &mut self.slots, time)?;
-            self.needs_full = false;
-            self.guarded = program
-                .guarded
-                .as_ref()
-                .is_some_and(|g| g.guards.iter().all(|x| x.holds(&program.tables, &self.slots)));
-            return Ok(());
-        }
-        let schedule = match &program.guarded {
-            Some(g) if self.guarded => &g.frame_schedule,
-            _ => &program.frame_schedule,
-        };
-        schedule
-            .run(&program.attr_bindings, &program.tables, &mut self.slots, time)
-            .map_err(|(step, e)| step_error(&program, step, e))
-    }
-
-    /// Whether frame evaluations run the guarded schedule (see
-    /// [`Program::guarded_frame_step_count`]): true after a full evaluation found the
-    /// values selector nodes were compiled against unchanged.
-    pub fn runs_guarded_schedule(&self) -> bool {
-        self.guarded && self.program.guarded.is_some()
-    }
-
-    /// Evaluates every step regardless of what changed.
-    pub fn evaluate_full(&mut self, time: Time) -> Result<()> {
-        self.needs_full = true;
-        self.evaluate(time)
-    }
-}
-
-#[cfg(test)]
-impl Instance {
-    /// The instance's slots (for tests that store them differently).
-    pub(crate) fn slots_mut(&mut self) -> &mut Slots {
-        &mut self.slots
-    }
-}
-
-fn run_steps<'a>(
-    program: &Program,
-    steps: impl Iterator<Item = &'a Step>,
-    slots: &mut Slots,
-    time: Time,
-) -> Result<()> {
-    for step in steps {
-        if let Err(e) = run_step(step, &program.attr_bindings, &program.tables, slots, time) {
-            return Err(step_error(program, step, e));
-        }
-    }
-    Ok(())
-}
-
-/// Runs one step over `slots`: its scalar kernel when it has one, else its compute.
-#[inline(always)]
-pub(crate) fn run_step(
-    step: &Step,
-    attr_bindings: &[AttrBinding],
-    tables: &CompiledTables,
-    slots: &mut Slots,
-    time: Time,
-) -> std::result::Result<(), ComputeError> {
-    if let Some(k) = &step.kernel {
-        if k.run(slots) {
-            return Ok(());
-        }
-    }
-    let base = step.attr_base as usize;
-    let attrs = attr_bindings.get(base..base + step.attr_count as usize).unwrap_or(&[]);
-    let kind: &dyn NodeType = &*step.kind;
-    let mut ctx = ComputeContext::compiled(slots, attrs, tables, kind, step.group, time);
-    kind.compute(&mut ctx)
-}
-
-/// The error of a failed step, naming its node (out of line: the loop stays small).
-#[cold]
-#[inline(never)]
-fn step_error(program: &Program, step: &Step, e: ComputeError) -> Error {
-    Error::Compute {
-        node: program.step_node_name(step).to_string(),
-        node_type: step.kind.spec().name.clone(),
-        message: e.message,
-    }
-}
-
-/// Evaluates many instances at `time` in parallel (rayon). Instances are
-/// independent, so the results equal evaluating them one by one.
-pub fn evaluate_batch(instances: &mut [Instance], time: Time) -> Result<()> {
-    instances
-        .par_iter_mut()
-        .map(|i| i.evaluate(time))
-        .collect::<Result<Vec<()>>>()
-        .map(|_| ())
 }
