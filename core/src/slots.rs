@@ -71,32 +71,32 @@ impl Slots {
     /// Storage for values in slot order: the leading floats, then the vec3s, matrices,
     /// bools and enums that follow each other in that order, go to the dense arrays.
     pub(crate) fn from_values(all: Vec<Value>) -> Slots {
-        let mut s = Slots::default();
-        let mut rest = all.into_iter().peekable();
-        let mut take = |class: Class| {
-            let mut run = Vec::new();
-            while let Some(v) = rest.next_if(|v| Class::of(v) == class) {
-                run.push(v);
-            }
-            run
-        };
-        s.floats = take(Class::Float).iter().filter_map(Value::as_f64).collect();
-        s.vec3s = take(Class::Vec3).iter().filter_map(DVec3::from_value).collect();
-        s.mats = take(Class::Matrix).iter().filter_map(DMat4::from_value).collect();
-        s.bools = take(Class::Bool).iter().filter_map(bool::from_value).collect();
-        s.enums = take(Class::Enum).iter().filter_map(i64::from_value).collect();
-        s.values = rest.collect();
-        let mut at = 0u32;
-        for (b, len) in s.base.iter_mut().zip([
-            s.floats.len(),
-            s.vec3s.len(),
-            s.mats.len(),
-            s.bools.len(),
-            s.enums.len(),
-        ]) {
-            at += len as u32;
-            *b = at;
+        // The run of each class, in class order: `all[start..end]`.
+        let mut bounds = [0usize; 6];
+        let mut at = 0;
+        for (k, class) in [Class::Float, Class::Vec3, Class::Matrix, Class::Bool, Class::Enum]
+            .into_iter()
+            .enumerate()
+        {
+            at += all[at..].iter().take_while(|v| Class::of(v) == class).count();
+            bounds[k + 1] = at;
         }
+        let run = |k: usize| &all[bounds[k]..bounds[k + 1]];
+        let mut s = Slots {
+            floats: run(0).iter().filter_map(Value::as_f64).collect(),
+            vec3s: run(1).iter().filter_map(DVec3::from_value).collect(),
+            mats: run(2).iter().filter_map(DMat4::from_value).collect(),
+            bools: run(3).iter().filter_map(bool::from_value).collect(),
+            enums: run(4).iter().filter_map(i64::from_value).collect(),
+            values: Vec::new(),
+            base: [0; 5],
+        };
+        for (b, &end) in s.base.iter_mut().zip(&bounds[1..]) {
+            *b = end as u32;
+        }
+        let rest = bounds[5];
+        let mut all = all;
+        s.values = all.split_off(rest);
         s
     }
 
