@@ -59,11 +59,32 @@ impl Instance {
     }
 
     /// Sets an unconnected input through its handle.
+    ///
+    /// Errors name the plug: a handle from another program, an output
+    /// ([`Error::NotAnInput`]), an input driven by a connection, a value of another type
+    /// ([`Error::WrongType`]; ints and enums convert) or not finite ([`Error::NonFinite`]).
+    /// A failed set changes nothing.
     pub fn set(&mut self, h: &PlugHandle, value: Value) -> Result<()> {
-        let Some((slot, comp)) = h.settable else {
+        if !self.program.owns(h) {
             return Err(Error::Program(
-                "this plug is an output or is driven by a connection; it cannot be set".into(),
+                "the handle was resolved by another program; resolve it with this instance's program".into(),
             ));
+        }
+        let plug = || self.program.plug_path(h);
+        let Some((slot, comp)) = h.settable else {
+            let is_output = self
+                .program
+                .nodes
+                .get(h.node as usize)
+                .and_then(|n| n.kind.spec().attrs.get(h.attr as usize))
+                .is_some_and(|a| a.direction == crate::spec::Direction::Output);
+            if is_output {
+                return Err(Error::NotAnInput { plug: plug() });
+            }
+            return Err(Error::Program(format!(
+                "{} is driven by a connection in this program; disconnect it in the graph and compile again to set it",
+                plug()
+            )));
         };
         let value = match (h.ty, value) {
             (AttrType::Enum, Value::Int(i)) => Value::Enum(i),
@@ -71,14 +92,14 @@ impl Instance {
             (_, v) => v,
         };
         if value.attr_type() != h.ty {
-            return Err(Error::Program(format!(
-                "the plug is {} but the value is {}",
-                h.ty,
-                value.attr_type()
-            )));
+            return Err(Error::WrongType {
+                plug: plug(),
+                expected: h.ty,
+                found: value.attr_type(),
+            });
         }
         if !value.is_finite() {
-            return Err(Error::Program("value is not finite (NaN or infinity)".into()));
+            return Err(Error::NonFinite { plug: plug() });
         }
         let stored = match comp {
             Some(k) => self.slots.set_lane(slot, k, value.as_f64().unwrap_or(0.0)),
@@ -98,13 +119,21 @@ impl Instance {
         self.set(h, value.into_value())
     }
 
-    /// Reads the current value of a plug.
+    /// Reads the current value of a plug (the zero of its type for a handle from another
+    /// program).
     pub fn get(&self, h: &PlugHandle) -> Value {
+        if !self.program.owns(h) {
+            return h.ty.zero();
+        }
         self.program.tables.resolve(&self.slots, h.binding)
     }
 
-    /// Reads a typed value (`None` when the handle's type differs).
+    /// Reads a typed value (`None` when the handle's type differs or the handle is from
+    /// another program).
     pub fn get_typed<T: AttrValue>(&self, h: &PlugHandle) -> Option<T> {
+        if !self.program.owns(h) {
+            return None;
+        }
         self.program.tables.read(&self.slots, h.binding)
     }
 

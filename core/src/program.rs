@@ -239,6 +239,13 @@ impl GuardedSchedule {
     }
 }
 
+/// A new [`Program::id`].
+pub(crate) fn next_program_id() -> u64 {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static NEXT: AtomicU64 = AtomicU64::new(1);
+    NEXT.fetch_add(1, Ordering::Relaxed)
+}
+
 /// Options for [`Program::compile`].
 #[derive(Clone, Debug, Default)]
 pub struct CompileOptions {
@@ -261,6 +268,9 @@ pub(crate) struct NodeEntry {
 
 /// A graph compiled into a flat schedule. Immutable; share it with `Arc`.
 pub struct Program {
+    /// Unique per compiled or loaded program in this process: handles carry it, so a
+    /// handle from another program is refused.
+    pub(crate) id: u64,
     pub(crate) steps: Vec<Step>,
     pub(crate) frame_steps: Vec<u32>,
     /// Copies of the steps listed in `frame_steps`, as a frame runs them.
@@ -294,6 +304,13 @@ impl std::fmt::Debug for Program {
 /// (no string lookup per frame).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PlugHandle {
+    /// The [`Program::id`] of the program that resolved it.
+    pub(crate) program: u64,
+    /// Node, attribute, element index and component: the plug's name in messages.
+    pub(crate) node: u32,
+    pub(crate) attr: u16,
+    pub(crate) index: Option<u32>,
+    pub(crate) comp: Option<u8>,
     pub(crate) binding: Binding,
     pub(crate) ty: AttrType,
     /// The slot and lane written by `set`, when the plug is an unconnected input.
@@ -431,7 +448,16 @@ impl Program {
         } else {
             None
         };
-        Ok(PlugHandle { binding, ty, settable })
+        Ok(PlugHandle {
+            program: self.id,
+            node: ni,
+            attr: attr.0,
+            index: p.index,
+            comp,
+            binding,
+            ty,
+            settable,
+        })
     }
 
     fn slot_is_own_input(&self, s: u32) -> bool {
@@ -439,6 +465,33 @@ impl Program {
     }
 
     /// The name of the node a step belongs to (for messages).
+    /// The path of the plug `h` resolves (`node.attr[index].child`), for messages.
+    pub fn plug_path(&self, h: &PlugHandle) -> String {
+        let Some(entry) = self.nodes.get(h.node as usize) else {
+            return "<a plug of another program>".to_string();
+        };
+        let Some(a) = entry.kind.spec().attrs.get(h.attr as usize) else {
+            return format!("{}.<unknown>", entry.name);
+        };
+        let mut s = format!("{}.{}", entry.name, a.name);
+        if let Some(i) = h.index {
+            s.push_str(&format!("[{i}]"));
+        }
+        if let Some(k) = h.comp {
+            match (&a.children, h.index) {
+                (Some(ch), None) => s = format!("{}.{}", entry.name, ch[k as usize % 3]),
+                (Some(ch), Some(_)) => s.push_str(&format!(".{}", ch[k as usize % 3])),
+                (None, _) => s.push_str(&format!(".{}", ["x", "y", "z"][k as usize % 3])),
+            }
+        }
+        s
+    }
+
+    /// Whether `h` was resolved by this program.
+    pub fn owns(&self, h: &PlugHandle) -> bool {
+        h.program == self.id
+    }
+
     pub(crate) fn step_node_name(&self, step: &Step) -> &str {
         &self.nodes[step.node as usize].name
     }

@@ -519,6 +519,7 @@ fn decode_payload(payload: &[u8], registry: &Registry) -> Result<Program> {
         }
     };
     Ok(Program {
+        id: crate::program::next_program_id(),
         guarded,
         frame_schedule: frame_schedule(&steps, &frame_steps, floats),
         steps,

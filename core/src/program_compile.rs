@@ -387,6 +387,7 @@ impl<'g> Compiler<'g> {
         let floats = initial.floats.len();
         let guarded = selective.map(|(steps, guards)| GuardedSchedule::new(&sorted, steps, guards, floats));
         Ok(Program {
+            id: crate::program::next_program_id(),
             guarded,
             frame_schedule: frame_schedule(&sorted, &frame_steps, floats),
             steps: sorted,

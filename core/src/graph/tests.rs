@@ -388,3 +388,55 @@ fn a_handle_to_an_input_driven_by_another_input_cannot_be_set() {
     let driven = inst.program().handle("dst.input1").unwrap();
     assert!(inst.set(&driven, Value::Float(5.0)).is_err());
 }
+
+#[test]
+fn a_failed_handle_set_names_the_plug_and_changes_nothing() {
+    let mut g = graph();
+    g.add_node("add", "a").unwrap();
+    g.add_node("add", "b").unwrap();
+    g.connect_path("a.output", "b.input1").unwrap();
+    g.set_path("a.input1", Value::Float(1.5)).unwrap();
+    let program = Arc::new(Program::compile(&g, &CompileOptions::default()).unwrap());
+    let mut inst = Instance::new(program.clone());
+    inst.evaluate(Time::default()).unwrap();
+    let input = program.handle("a.input1").unwrap();
+    let before = inst.get(&input);
+    let message = |e: Error| e.to_string();
+    match inst.set(&input, Value::Vec3(glam::DVec3::ONE)) {
+        Err(e @ Error::WrongType { .. }) => assert!(message(e).contains("a.input1"), "names the plug"),
+        other => panic!("{other:?}"),
+    }
+    match inst.set(&input, Value::Float(f64::NAN)) {
+        Err(e @ Error::NonFinite { .. }) => assert!(message(e).contains("a.input1")),
+        other => panic!("{other:?}"),
+    }
+    let output = program.handle("a.output").unwrap();
+    assert!(matches!(inst.set(&output, Value::Float(1.0)), Err(Error::NotAnInput { plug }) if plug == "a.output"));
+    let driven = program.handle("b.input1").unwrap();
+    match inst.set(&driven, Value::Float(1.0)) {
+        Err(e @ Error::Program(_)) => assert!(message(e).contains("b.input1 is driven by a connection")),
+        other => panic!("{other:?}"),
+    }
+    assert!(inst.get(&input).same_bits(&before), "nothing changed");
+}
+
+#[test]
+fn a_handle_from_another_program_is_refused() {
+    let mut g = graph();
+    g.add_node("add", "a").unwrap();
+    g.set_path("a.input1", Value::Float(3.0)).unwrap();
+    let first = Arc::new(Program::compile(&g, &CompileOptions::default()).unwrap());
+    // The same graph compiled again: the same layout, but another program.
+    let second = Arc::new(Program::compile(&g, &CompileOptions::default()).unwrap());
+    let foreign = second.handle("a.input1").unwrap();
+    let mut inst = Instance::new(first.clone());
+    inst.evaluate(Time::default()).unwrap();
+    assert!(!first.owns(&foreign) && second.owns(&foreign));
+    let err = inst.set(&foreign, Value::Float(9.0)).unwrap_err();
+    assert!(err.to_string().contains("another program"), "{err}");
+    assert_eq!(inst.get_typed::<f64>(&foreign), None);
+    assert!(inst.get(&foreign).same_bits(&Value::Float(0.0)));
+    let own = first.handle("a.input1").unwrap();
+    assert_eq!(inst.get_typed::<f64>(&own), Some(3.0));
+    assert_eq!(first.plug_path(&own), "a.input1");
+}
