@@ -2,7 +2,7 @@
 //! `node.attr[3].child`. Parsing is separate from lookup so the graph, the
 //! compiled program and the rig loader all read paths the same way.
 
-use crate::spec::{AttrId, NodeSpec};
+use crate::spec::{AttrId, AttrSpec, NodeSpec};
 use crate::value::AttrType;
 
 /// The parts of a plug path, before any lookup.
@@ -19,6 +19,24 @@ pub struct PlugPath<'a> {
 }
 
 /// Splits a plug path into its parts; the error says what is malformed.
+/// The path of a plug as text: `node.attr`, `node.attr[index]`, and for a component the
+/// child's name (`node.translateX`, `node.attr[index].translateX`, or `.x`/`.y`/`.z` for an
+/// attribute without named children).
+pub fn plug_path_text(node: &str, a: &AttrSpec, index: Option<u32>, component: Option<u8>) -> String {
+    let mut s = format!("{node}.{}", a.name);
+    if let Some(i) = index {
+        s.push_str(&format!("[{i}]"));
+    }
+    if let Some(k) = component {
+        match (&a.children, index) {
+            (Some(ch), None) => s = format!("{node}.{}", ch[k as usize % 3]),
+            (Some(ch), Some(_)) => s.push_str(&format!(".{}", ch[k as usize % 3])),
+            (None, _) => s.push_str(&format!(".{}", ["x", "y", "z"][k as usize % 3])),
+        }
+    }
+    s
+}
+
 pub fn parse_plug_path(path: &str) -> Result<PlugPath<'_>, String> {
     let (node, rest) = path
         .split_once('.')

@@ -473,18 +473,7 @@ impl Program {
         let Some(a) = entry.kind.spec().attrs.get(h.attr as usize) else {
             return format!("{}.<unknown>", entry.name);
         };
-        let mut s = format!("{}.{}", entry.name, a.name);
-        if let Some(i) = h.index {
-            s.push_str(&format!("[{i}]"));
-        }
-        if let Some(k) = h.comp {
-            match (&a.children, h.index) {
-                (Some(ch), None) => s = format!("{}.{}", entry.name, ch[k as usize % 3]),
-                (Some(ch), Some(_)) => s.push_str(&format!(".{}", ch[k as usize % 3])),
-                (None, _) => s.push_str(&format!(".{}", ["x", "y", "z"][k as usize % 3])),
-            }
-        }
-        s
+        crate::path::plug_path_text(&entry.name, a, h.index, h.comp)
     }
 
     /// Whether `h` was resolved by this program.

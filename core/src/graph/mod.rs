@@ -295,18 +295,7 @@ impl Graph {
         let Some(a) = data.spec().attrs.get(plug.attr.index()) else {
             return format!("{}.<unknown>", data.name);
         };
-        let mut s = format!("{}.{}", data.name, a.name);
-        if let Some(i) = plug.index {
-            s.push_str(&format!("[{i}]"));
-        }
-        if let Some(k) = plug.component {
-            match (&a.children, plug.index) {
-                (Some(ch), None) => s = format!("{}.{}", data.name, ch[k as usize % 3]),
-                (Some(ch), Some(_)) => s.push_str(&format!(".{}", ch[k as usize % 3])),
-                (None, _) => s.push_str(&format!(".{}", ["x", "y", "z"][k as usize % 3])),
-            }
-        }
-        s
+        crate::path::plug_path_text(&data.name, a, plug.index, plug.component)
     }
 
     /// The value type a plug carries (`float` for a vec3 component).
