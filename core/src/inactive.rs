@@ -16,8 +16,9 @@
 
 use std::cell::RefCell;
 
+use crate::instance::run_step;
 use crate::node::Time;
-use crate::program::{run_step, AttrBinding, Binding, CompiledTables, Step};
+use crate::program::{AttrBinding, Binding, CompiledTables, Step};
 use crate::slots::Slots;
 use crate::spec::{AttrId, Input};
 use crate::value::{AttrValue, Value};

@@ -143,7 +143,14 @@ impl Instance {
     pub fn evaluate(&mut self, time: Time) -> Result<()> {
         let program = self.program.clone();
         if self.needs_full {
-            run_steps(&program, program.steps.iter(), &mut self.slots, time)?;
+            run_steps(
+                &program.steps,
+                &program.attr_bindings,
+                &program.tables,
+                &mut self.slots,
+                time,
+            )
+            .map_err(|(step, e)| step_error(&program, step, e))?;
             self.needs_full = false;
             self.guarded = program
                 .guarded
@@ -182,15 +189,17 @@ impl Instance {
     }
 }
 
-fn run_steps<'a>(
-    program: &Program,
-    steps: impl Iterator<Item = &'a Step>,
+/// Runs `steps` in order over `slots`; on failure, the step that failed and its error.
+pub(crate) fn run_steps<'s>(
+    steps: &'s [Step],
+    attr_bindings: &[AttrBinding],
+    tables: &CompiledTables,
     slots: &mut Slots,
     time: Time,
-) -> Result<()> {
+) -> std::result::Result<(), (&'s Step, ComputeError)> {
     for step in steps {
-        if let Err(e) = run_step(step, &program.attr_bindings, &program.tables, slots, time) {
-            return Err(step_error(program, step, e));
+        if let Err(e) = run_step(step, attr_bindings, tables, slots, time) {
+            return Err((step, e));
         }
     }
     Ok(())

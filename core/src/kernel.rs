@@ -13,7 +13,6 @@ use crate::node::{ComputeContext, NodeType};
 use crate::program::{AttrBinding, Binding};
 use crate::slots::Slots;
 use crate::spec::{AttrId, Direction, Input, NodeSpec, Output};
-use crate::tape::Arith;
 use crate::value::AttrType;
 
 /// Most inputs a [`ScalarKernel`] may read.
@@ -36,26 +35,62 @@ pub enum ScalarOp {
     Custom(fn(&[f64]) -> f64),
 }
 
+/// The two-input operations of [`ScalarOp`]: their arithmetic, defined once for
+/// `compute`, compiled kernels and tapes ([`crate::tape`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Arith {
+    /// `a + b`
+    Add,
+    /// `a - b`
+    Sub,
+    /// `a * b`
+    Mul,
+    /// `finite(a + b)`
+    AddFinite,
+    /// `finite(a * b)`
+    MulFinite,
+}
+
+impl Arith {
+    /// The operation on `a` and `b`.
+    #[inline(always)]
+    pub(crate) fn apply(self, a: f64, b: f64) -> f64 {
+        match self {
+            Arith::Add => a + b,
+            Arith::Sub => a - b,
+            Arith::Mul => a * b,
+            Arith::AddFinite => finite(a + b),
+            Arith::MulFinite => finite(a * b),
+        }
+    }
+}
+
 impl ScalarOp {
+    /// The two-input operation this is (`None` for [`ScalarOp::Custom`]).
+    fn arith(self) -> Option<Arith> {
+        match self {
+            ScalarOp::Add => Some(Arith::Add),
+            ScalarOp::Sub => Some(Arith::Sub),
+            ScalarOp::Mul => Some(Arith::Mul),
+            ScalarOp::AddFinite => Some(Arith::AddFinite),
+            ScalarOp::MulFinite => Some(Arith::MulFinite),
+            ScalarOp::Custom(_) => None,
+        }
+    }
+
     /// Applies the operation to the first `n` values of `x`.
     #[inline(always)]
     fn eval(self, x: &[f64; MAX_KERNEL_INPUTS], n: usize) -> f64 {
-        match self {
-            ScalarOp::Add => x[0] + x[1],
-            ScalarOp::Sub => x[0] - x[1],
-            ScalarOp::Mul => x[0] * x[1],
-            ScalarOp::AddFinite => finite(x[0] + x[1]),
-            ScalarOp::MulFinite => finite(x[0] * x[1]),
-            ScalarOp::Custom(f) => f(&x[..n.min(MAX_KERNEL_INPUTS)]),
+        match (self, self.arith()) {
+            (ScalarOp::Custom(f), _) => f(&x[..n.min(MAX_KERNEL_INPUTS)]),
+            (_, Some(arith)) => arith.apply(x[0], x[1]),
+            (_, None) => 0.0, // only `Custom` has no `Arith`
         }
     }
 
     /// How many inputs the operation needs (`None`: any count from 1 to [`MAX_KERNEL_INPUTS`]).
     fn arity(self) -> Option<usize> {
-        match self {
-            ScalarOp::Add | ScalarOp::Sub | ScalarOp::Mul | ScalarOp::AddFinite | ScalarOp::MulFinite => Some(2),
-            ScalarOp::Custom(_) => None,
-        }
+        self.arith().map(|_| 2)
     }
 }
 
@@ -184,18 +219,10 @@ pub(crate) struct KernelInput {
 const WHOLE: u8 = u8::MAX;
 
 /// How a compiled kernel runs: the common shapes get their own straight-line code.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 enum Code {
-    /// `x[0] + x[1]`, both whole float slots.
-    Add,
-    /// `x[0] - x[1]`, both whole float slots.
-    Sub,
-    /// `x[0] * x[1]`, both whole float slots.
-    Mul,
-    /// `finite(x[0] + x[1])`, both whole float slots.
-    AddFinite,
-    /// `finite(x[0] * x[1])`, both whole float slots.
-    MulFinite,
+    /// A two-input operation on two whole float slots.
+    Whole(Arith),
     /// Anything else: inputs read by lane, then `op`.
     General,
 }
@@ -293,12 +320,8 @@ impl KernelStep {
             };
         }
         let whole = inputs[..kernel.len as usize].iter().all(|i| i.lane == WHOLE);
-        let code = match kernel.op {
-            ScalarOp::Add if whole => Code::Add,
-            ScalarOp::Sub if whole => Code::Sub,
-            ScalarOp::Mul if whole => Code::Mul,
-            ScalarOp::AddFinite if whole => Code::AddFinite,
-            ScalarOp::MulFinite if whole => Code::MulFinite,
+        let code = match kernel.op.arith() {
+            Some(arith) if whole => Code::Whole(arith),
             _ => Code::General,
         };
         Some(KernelStep {
@@ -313,15 +336,10 @@ impl KernelStep {
     /// `(arithmetic, input 0's slot, input 1's slot, output slot)` for the two-input
     /// whole-slot shapes (what a tape runs, see [`crate::tape`]).
     pub(crate) fn shape(&self) -> Option<(Arith, u32, u32, u32)> {
-        let arith = match self.code {
-            Code::Add => Arith::Add,
-            Code::Sub => Arith::Sub,
-            Code::Mul => Arith::Mul,
-            Code::AddFinite => Arith::AddFinite,
-            Code::MulFinite => Arith::MulFinite,
-            Code::General => return None,
-        };
-        Some((arith, self.inputs[0].slot, self.inputs[1].slot, self.output))
+        match self.code {
+            Code::Whole(arith) => Some((arith, self.inputs[0].slot, self.inputs[1].slot, self.output)),
+            Code::General => None,
+        }
     }
 
     /// Runs the kernel over `slots`. Returns `false`, having changed nothing, when a
@@ -333,24 +351,8 @@ impl KernelStep {
         let [i0, i1, ..] = self.inputs;
         let floats = &mut *slots.floats;
         let r = match self.code {
-            Code::Add => match (floats.get(i0.slot as usize), floats.get(i1.slot as usize)) {
-                (Some(a), Some(b)) => a + b,
-                _ => return false,
-            },
-            Code::Sub => match (floats.get(i0.slot as usize), floats.get(i1.slot as usize)) {
-                (Some(a), Some(b)) => a - b,
-                _ => return false,
-            },
-            Code::Mul => match (floats.get(i0.slot as usize), floats.get(i1.slot as usize)) {
-                (Some(a), Some(b)) => a * b,
-                _ => return false,
-            },
-            Code::AddFinite => match (floats.get(i0.slot as usize), floats.get(i1.slot as usize)) {
-                (Some(a), Some(b)) => finite(a + b),
-                _ => return false,
-            },
-            Code::MulFinite => match (floats.get(i0.slot as usize), floats.get(i1.slot as usize)) {
-                (Some(a), Some(b)) => finite(a * b),
+            Code::Whole(arith) => match (floats.get(i0.slot as usize), floats.get(i1.slot as usize)) {
+                (Some(&a), Some(&b)) => arith.apply(a, b),
                 _ => return false,
             },
             Code::General => match self.general(slots) {
@@ -500,10 +502,10 @@ mod tests {
 
     #[test]
     fn saturating_ops_run_straight_line_and_saturate() {
-        for (op, code, a, b, want) in [
-            (ScalarOp::MulFinite, Code::MulFinite, 1e300, -1e300, -f64::MAX),
-            (ScalarOp::AddFinite, Code::AddFinite, f64::MAX, f64::MAX, f64::MAX),
-            (ScalarOp::MulFinite, Code::MulFinite, 0.75, -4.0, -3.0),
+        for (op, arith, a, b, want) in [
+            (ScalarOp::MulFinite, Arith::MulFinite, 1e300, -1e300, -f64::MAX),
+            (ScalarOp::AddFinite, Arith::AddFinite, f64::MAX, f64::MAX, f64::MAX),
+            (ScalarOp::MulFinite, Arith::MulFinite, 0.75, -4.0, -3.0),
         ] {
             let mut s = NodeSpec::builder("sat");
             let (x, y) = (s.input("x", 0.0), s.input("y", 0.0));
@@ -517,10 +519,7 @@ mod tests {
             g.set_path("n.y", Value::Float(b)).unwrap();
             let program = Arc::new(Program::compile(&g, &CompileOptions::default()).unwrap());
             let k = program.steps[0].kernel.expect("a kernel");
-            assert!(matches!(
-                (k.code, code),
-                (Code::MulFinite, Code::MulFinite) | (Code::AddFinite, Code::AddFinite)
-            ));
+            assert_eq!(k.code, Code::Whole(arith));
             let mut inst = Instance::new(program.clone());
             inst.evaluate(Time::default()).unwrap();
             assert_eq!(inst.get_typed::<f64>(&program.handle("n.output").unwrap()), Some(want));

@@ -15,7 +15,6 @@
 use std::collections::HashMap;
 use std::sync::Arc;
 
-pub(crate) use crate::instance::run_step;
 pub use crate::instance::{evaluate_batch, Instance};
 
 use crate::error::{nearest, Error, Result};

@@ -12,25 +12,11 @@
 //! kernel's ([`crate::kernel`]) and its node's `compute`, bit for bit.
 
 use crate::error::ComputeError;
-use crate::kernel::{finite, KernelStep};
+use crate::instance::run_steps;
+use crate::kernel::{Arith, KernelStep};
 use crate::node::Time;
-use crate::program::{run_step, AttrBinding, CompiledTables, Step};
+use crate::program::{AttrBinding, CompiledTables, Step};
 use crate::slots::Slots;
-
-/// The arithmetic of a tape operation (the whole-slot shapes of [`KernelStep`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Arith {
-    /// `a + b`
-    Add,
-    /// `a - b`
-    Sub,
-    /// `a * b`
-    Mul,
-    /// `finite(a + b)`
-    AddFinite,
-    /// `finite(a * b)`
-    MulFinite,
-}
 
 /// Where an operation's operands come from: both slots, or the previous operation's
 /// result in place of `a` or of `b`.
@@ -143,21 +129,23 @@ impl Tape {
             rest = tail;
             use Code::*;
             prev = match run.code {
-                Add => each(ops, prev, &|_, o| at(o.a) + at(o.b)),
-                AddPA => each(ops, prev, &|p, o| p + at(o.b)),
-                AddPB => each(ops, prev, &|p, o| at(o.a) + p),
-                Sub => each(ops, prev, &|_, o| at(o.a) - at(o.b)),
-                SubPA => each(ops, prev, &|p, o| p - at(o.b)),
-                SubPB => each(ops, prev, &|p, o| at(o.a) - p),
-                Mul => each(ops, prev, &|_, o| at(o.a) * at(o.b)),
-                MulPA => each(ops, prev, &|p, o| p * at(o.b)),
-                MulPB => each(ops, prev, &|p, o| at(o.a) * p),
-                AddFinite => each(ops, prev, &|_, o| finite(at(o.a) + at(o.b))),
-                AddFinitePA => each(ops, prev, &|p, o| finite(p + at(o.b))),
-                AddFinitePB => each(ops, prev, &|p, o| finite(at(o.a) + p)),
-                MulFinite => each(ops, prev, &|_, o| finite(at(o.a) * at(o.b))),
-                MulFinitePA => each(ops, prev, &|p, o| finite(p * at(o.b))),
-                MulFinitePB => each(ops, prev, &|p, o| finite(at(o.a) * p)),
+                // Each arm a loop of its own with a constant `Arith` (one definition of the
+                // arithmetic, no dispatch per operation).
+                Add => each(ops, prev, &|_, o| Arith::Add.apply(at(o.a), at(o.b))),
+                AddPA => each(ops, prev, &|p, o| Arith::Add.apply(p, at(o.b))),
+                AddPB => each(ops, prev, &|p, o| Arith::Add.apply(at(o.a), p)),
+                Sub => each(ops, prev, &|_, o| Arith::Sub.apply(at(o.a), at(o.b))),
+                SubPA => each(ops, prev, &|p, o| Arith::Sub.apply(p, at(o.b))),
+                SubPB => each(ops, prev, &|p, o| Arith::Sub.apply(at(o.a), p)),
+                Mul => each(ops, prev, &|_, o| Arith::Mul.apply(at(o.a), at(o.b))),
+                MulPA => each(ops, prev, &|p, o| Arith::Mul.apply(p, at(o.b))),
+                MulPB => each(ops, prev, &|p, o| Arith::Mul.apply(at(o.a), p)),
+                AddFinite => each(ops, prev, &|_, o| Arith::AddFinite.apply(at(o.a), at(o.b))),
+                AddFinitePA => each(ops, prev, &|p, o| Arith::AddFinite.apply(p, at(o.b))),
+                AddFinitePB => each(ops, prev, &|p, o| Arith::AddFinite.apply(at(o.a), p)),
+                MulFinite => each(ops, prev, &|_, o| Arith::MulFinite.apply(at(o.a), at(o.b))),
+                MulFinitePA => each(ops, prev, &|p, o| Arith::MulFinite.apply(p, at(o.b))),
+                MulFinitePB => each(ops, prev, &|p, o| Arith::MulFinite.apply(at(o.a), p)),
             };
         }
         true
@@ -228,22 +216,15 @@ impl Schedule {
         for item in &self.items {
             match item {
                 Item::Step(i) => {
-                    let Some(step) = self.steps.get(*i as usize) else {
-                        continue;
-                    };
-                    if let Err(e) = run_step(step, attr_bindings, tables, slots, time) {
-                        return Err((step, e));
-                    }
+                    let i = *i as usize;
+                    run_steps(self.steps.get(i..=i).unwrap_or(&[]), attr_bindings, tables, slots, time)?;
                 }
                 Item::Tape { first, tape } => {
                     if !tape.run(&mut slots.floats) {
                         // Not this program's slots: step by step, as the general path would.
-                        let n = tape.ops.len();
-                        for step in self.steps.iter().skip(*first as usize).take(n) {
-                            if let Err(e) = run_step(step, attr_bindings, tables, slots, time) {
-                                return Err((step, e));
-                            }
-                        }
+                        let (first, n) = (*first as usize, tape.ops.len());
+                        let steps = self.steps.get(first..first + n).unwrap_or(&[]);
+                        run_steps(steps, attr_bindings, tables, slots, time)?;
                     }
                 }
             }
