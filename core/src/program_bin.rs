@@ -496,7 +496,6 @@ fn decode_payload(payload: &[u8], registry: &Registry) -> Result<Program> {
     if let Some(&f) = frame_steps.iter().find(|&&f| f as usize >= steps.len()) {
         return Err(err(format!("frame step {f} out of range")));
     }
-    let floats = Slots::leading_floats(&initial);
     let guarded = match guarded {
         None => None,
         Some((guarded_steps, guards)) => {
@@ -515,18 +514,20 @@ fn decode_payload(payload: &[u8], registry: &Registry) -> Result<Program> {
                     return Err(err("a guard refers to a missing or mistyped slot"));
                 }
             }
-            Some(GuardedSchedule::new(&steps, guarded_steps, guards, floats))
+            Some((guarded_steps, guards))
         }
     };
+    let initial = Slots::from_values(initial);
+    let floats = initial.floats.len();
     Ok(Program {
         id: crate::program::next_program_id(),
-        guarded,
+        guarded: guarded.map(|(steps_of, guards)| GuardedSchedule::new(&steps, steps_of, guards, floats)),
         frame_schedule: frame_schedule(&steps, &frame_steps, floats),
         steps,
         frame_steps,
         attr_bindings,
         tables,
-        initial: Slots::from_values(initial),
+        initial,
         dynamic_slot,
         own_input_slot,
         pruned_slot,

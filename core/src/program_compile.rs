@@ -13,7 +13,7 @@ use crate::program::{
     NodeEntry, Program, Step,
 };
 use crate::program_layout;
-use crate::slots::{Class, Slots};
+use crate::slots::Slots;
 use crate::spec::{AttrId, Direction};
 use crate::value::Value;
 
@@ -50,26 +50,6 @@ impl<'g> Compiler<'g> {
         self.initial.push(v);
         self.output_slot_producer.push(producer);
         (self.initial.len() - 1) as u32
-    }
-
-    /// Renumbers the slots by the class of their value (floats, vec3s, matrices, bools,
-    /// enums, then the rest), keeping their order within a class: the dense arrays of
-    /// [`crate::slots`].
-    fn number_by_class(&mut self) {
-        let mut order: Vec<u32> = (0..self.initial.len() as u32).collect();
-        order.sort_by_key(|&s| Class::of(&self.initial[s as usize]));
-        let mut new_id = vec![0u32; order.len()];
-        for (new, &old) in order.iter().enumerate() {
-            new_id[old as usize] = new as u32;
-        }
-        let initial = std::mem::take(&mut self.initial);
-        let producer = std::mem::take(&mut self.output_slot_producer);
-        let mut taken: Vec<Option<Value>> = initial.into_iter().map(Some).collect();
-        self.initial = order.iter().filter_map(|&s| taken[s as usize].take()).collect();
-        self.output_slot_producer = order.iter().map(|&s| producer[s as usize]).collect();
-        for s in self.outputs.values_mut().chain(self.own.values_mut()) {
-            *s = new_id[*s as usize];
-        }
     }
 
     /// The binding through which the value at `plug` (an element, maybe a component) is read.
@@ -157,7 +137,6 @@ impl<'g> Compiler<'g> {
                 }
             }
         }
-        self.number_by_class();
         // Pass 2: bindings for every element.
         let mut attr_bindings = vec![AttrBinding::default(); total_attrs as usize];
         let mut elems = Vec::new();

@@ -70,7 +70,7 @@ pub(crate) struct Slots {
 impl Slots {
     /// Storage for values in slot order: the leading floats, then the vec3s, matrices,
     /// bools and enums that follow each other in that order, go to the dense arrays.
-    pub(crate) fn from_values(all: Vec<Value>) -> Slots {
+    pub(crate) fn from_values(mut all: Vec<Value>) -> Slots {
         // The run of each class, in class order: `all[start..end]`.
         let mut bounds = [0usize; 6];
         let mut at = 0;
@@ -81,23 +81,17 @@ impl Slots {
             at += all[at..].iter().take_while(|v| Class::of(v) == class).count();
             bounds[k + 1] = at;
         }
+        let values = all.split_off(bounds[5]);
         let run = |k: usize| &all[bounds[k]..bounds[k + 1]];
-        let mut s = Slots {
+        Slots {
             floats: run(0).iter().filter_map(Value::as_f64).collect(),
             vec3s: run(1).iter().filter_map(DVec3::from_value).collect(),
             mats: run(2).iter().filter_map(DMat4::from_value).collect(),
             bools: run(3).iter().filter_map(bool::from_value).collect(),
             enums: run(4).iter().filter_map(i64::from_value).collect(),
-            values: Vec::new(),
-            base: [0; 5],
-        };
-        for (b, &end) in s.base.iter_mut().zip(&bounds[1..]) {
-            *b = end as u32;
+            values,
+            base: [bounds[1], bounds[2], bounds[3], bounds[4], bounds[5]].map(|b| b as u32),
         }
-        let rest = bounds[5];
-        let mut all = all;
-        s.values = all.split_off(rest);
-        s
     }
 
     /// Every value stored as a `Value`, none in the dense arrays (what a program from an
@@ -108,11 +102,6 @@ impl Slots {
             values,
             ..Slots::default()
         }
-    }
-
-    /// How many of `all`, from the start, are floats: the float array's length.
-    pub(crate) fn leading_floats(all: &[Value]) -> usize {
-        all.iter().take_while(|v| matches!(v, Value::Float(_))).count()
     }
 
     /// Every slot's value in slot order.
@@ -182,12 +171,13 @@ impl Slots {
         self.value(s).cloned()
     }
 
-    /// Slot `s` as a number (a float slot, or a number value); `None` otherwise.
+    /// Slot `s` as a number ([`Value::as_f64`]: a float, int, enum or bool, whatever its
+    /// array); `None` otherwise. Float slots take the short path.
     #[inline]
     pub(crate) fn number(&self, s: u32) -> Option<f64> {
         match self.float(s) {
             Some(x) => Some(x),
-            None => self.value(s)?.as_f64(),
+            None => self.get(s)?.as_f64(),
         }
     }
 
@@ -371,6 +361,10 @@ mod tests {
         assert_eq!(s.read::<bool>(5), None);
         assert_eq!(s.read::<f64>(8), None);
         assert_eq!(s.number(7), Some(7.0));
+        // Numbers in the dense bool and enum arrays, as `Value::as_f64` reads them.
+        assert_eq!(s.number(4), Some(1.0));
+        assert_eq!(s.number(5), Some(4.0));
+        assert_eq!(s.number(2), None);
         assert_eq!(s.lane(2, 1), Some(2.0));
         assert!(s.get(8).is_none());
     }
