@@ -1,6 +1,7 @@
 //! Skinning throughput: 100,000 vertices, 4 influences each, 64 joints. In one run:
 //! - `baseline_copy_inputs`: copies the bytes LBS reads for positions (positions + CSR
-//!   weights) into output buffers: the memory-bandwidth floor;
+//!   weights) into output buffers: the memory-bandwidth floor; `baseline_copy_inputs_normals`
+//!   copies the normals too, the floor of the `*_normals` cases;
 //! - the raw kernels (`lbs_*`, `dqs_*`, serial and parallel, with and without normals), on
 //!   raw weights (validated per vertex on every call) and, for `*_prepared`, on
 //!   [`PreparedWeights`] validated once (what `skinCluster` caches);
@@ -10,10 +11,10 @@
 //!
 //! Criterion reports elements/s (vertices/s); divide 1e9 by it for ns per vertex. Before the
 //! benchmarks, the node loop is also run with a counting allocator and the allocations per
-//! compiled frame are printed, and so is an interleaved comparison: copy, LBS and prepared LBS
-//! run alternately 300 times (each twice in a row, the second run timed, so caches are warm
-//! as in criterion's loop) and the fastest and median runs of each are reported with their
-//! ratios to the copy. Alternating makes the ratios immune to the machine's drift between
+//! compiled frame are printed, and so is an interleaved comparison: the two copies, LBS,
+//! prepared LBS and prepared LBS with normals run alternately 300 times (each twice in a row,
+//! the second run timed, so caches are warm as in criterion's loop) and the fastest and
+//! median runs of each are reported with their ratios to the copy of the same bytes. Alternating makes the ratios immune to the machine's drift between
 //! criterion's separate measurements.
 //!
 //! Run briefly: `cargo bench -p sinew-nodes --no-default-features --bench skinning --
@@ -155,39 +156,63 @@ fn report_allocations(r: &Rig) {
     }
 }
 
-/// The bytes LBS reads for positions, copied into output buffers: the bandwidth baseline.
+/// The bytes LBS reads, copied into output buffers: the bandwidth baseline. Positions and
+/// the CSR weights always; the normals too when made [`CopyBaseline::with_normals`].
 struct CopyBaseline {
     positions: Vec<Vec3>,
+    normals: Vec<Vec3>,
     offsets: Vec<u32>,
     joints: Vec<u32>,
     weights: Vec<f32>,
 }
 
 impl CopyBaseline {
+    /// The baseline for deforming positions only.
     fn new(r: &Rig) -> Self {
         CopyBaseline {
             positions: vec![Vec3::ZERO; VERTICES],
+            normals: Vec::new(),
             offsets: vec![0; r.weights.offsets.len()],
             joints: vec![0; r.weights.joints.len()],
             weights: vec![0.0; r.weights.weights.len()],
         }
     }
 
+    /// The baseline for deforming positions and normals.
+    fn with_normals(r: &Rig) -> Self {
+        CopyBaseline {
+            normals: vec![Vec3::ZERO; VERTICES],
+            ..CopyBaseline::new(r)
+        }
+    }
+
     fn run(&mut self, r: &Rig) {
         self.positions.copy_from_slice(black_box(&r.positions));
+        if !self.normals.is_empty() {
+            self.normals.copy_from_slice(black_box(&r.normals));
+        }
         self.offsets.copy_from_slice(black_box(&r.weights.offsets));
         self.joints.copy_from_slice(black_box(&r.weights.joints));
         self.weights.copy_from_slice(black_box(&r.weights.weights));
-        black_box((&self.positions, &self.offsets, &self.joints, &self.weights));
+        black_box((
+            &self.positions,
+            &self.normals,
+            &self.offsets,
+            &self.joints,
+            &self.weights,
+        ));
     }
 }
 
-/// Copy, LBS on raw weights and LBS on prepared weights, alternately, each run twice in a
-/// row and the second run timed (warm caches, as in criterion's loop); prints each one's
-/// fastest and median time and their ratios to the copy's.
+/// The two copies and three LBS runs (raw weights, prepared weights, prepared weights with
+/// normals), alternately, each run twice in a row and the second run timed (warm caches, as
+/// in criterion's loop); prints each one's fastest and median time and the ratios of the
+/// LBS runs to the copy of the same bytes.
 fn report_interleaved(r: &Rig, prepared: &PreparedWeights) {
     let mut copy = CopyBaseline::new(r);
+    let mut copy_n = CopyBaseline::with_normals(r);
     let mut out = vec![Vec3::ZERO; VERTICES];
+    let mut out_n = vec![Vec3::ZERO; VERTICES];
     let mut scratch = DqPalette::new();
     let raw = SkinInput {
         positions: &r.positions,
@@ -199,44 +224,55 @@ fn report_interleaved(r: &Rig, prepared: &PreparedWeights) {
         weights: prepared.into(),
         ..raw
     };
-    let mut times: [Vec<f64>; 3] = Default::default();
-    for _ in 0..300 {
-        copy.run(r);
+    let prep_n = SkinInput {
+        normals: &r.normals,
+        ..prep
+    };
+    let mut times: [Vec<f64>; 5] = Default::default();
+    let mut timed = |k: usize, run: &mut dyn FnMut()| {
+        run();
         let t = std::time::Instant::now();
-        copy.run(r);
-        times[0].push(t.elapsed().as_secs_f64());
-        for (k, input) in [(1, &raw), (2, &prep)] {
-            let mut lbs = || {
+        run();
+        times[k].push(t.elapsed().as_secs_f64());
+    };
+    for _ in 0..300 {
+        timed(0, &mut || copy.run(r));
+        timed(1, &mut || copy_n.run(r));
+        for (k, input) in [(2, &raw), (3, &prep), (4, &prep_n)] {
+            timed(k, &mut || {
+                let normals: &mut [Vec3] = if k == 4 { &mut out_n } else { &mut [] };
                 let o = SkinOutput {
                     positions: &mut out,
-                    normals: &mut [],
+                    normals,
                 };
                 skin(black_box(input), SkinMethod::Linear, &mut scratch, o).unwrap();
-                black_box(&out);
-            };
-            lbs();
-            let t = std::time::Instant::now();
-            lbs();
-            times[k].push(t.elapsed().as_secs_f64());
+                black_box((&out, &out_n));
+            });
         }
     }
-    let [copy, raw, prep] = times.map(|mut v| {
+    let [copy, copy_n, raw, prep, prep_n] = times.map(|mut v| {
         v.sort_by(f64::total_cmp);
         (v[0] * 1e6, v[v.len() / 2] * 1e6)
     });
+    let line = |name: &str, (fast, median): (f64, f64), base: (f64, f64)| {
+        format!(
+            "{name} {fast:.1} / {median:.1} µs ({:.2}× / {:.2}× copy)",
+            fast / base.0,
+            median / base.1
+        )
+    };
     println!(
-        "interleaved, warm, 300 runs (fastest / median): copy {:.1} / {:.1} µs; LBS positions {:.1} / {:.1} µs \
-         ({:.2}× / {:.2}× copy); prepared {:.1} / {:.1} µs ({:.2}× / {:.2}× copy)",
+        "interleaved, warm, 300 runs (fastest / median): copy {:.1} / {:.1} µs; {}; {}",
         copy.0,
         copy.1,
-        raw.0,
-        raw.1,
-        raw.0 / copy.0,
-        raw.1 / copy.1,
-        prep.0,
-        prep.1,
-        prep.0 / copy.0,
-        prep.1 / copy.1
+        line("LBS positions", raw, copy),
+        line("prepared", prep, copy)
+    );
+    println!(
+        "interleaved, with normals: copy {:.1} / {:.1} µs; {}",
+        copy_n.0,
+        copy_n.1,
+        line("prepared LBS positions + normals", prep_n, copy_n)
     );
 }
 
@@ -256,6 +292,10 @@ fn bench(c: &mut Criterion) {
     // + weights) into output buffers.
     let mut copy = CopyBaseline::new(&r);
     g.bench_function("baseline_copy_inputs", |b| b.iter(|| copy.run(&r)));
+    drop(copy);
+    // The same with the normals: the baseline of the `*_normals` cases.
+    let mut copy = CopyBaseline::with_normals(&r);
+    g.bench_function("baseline_copy_inputs_normals", |b| b.iter(|| copy.run(&r)));
     drop(copy);
 
     let with_n = SkinInput {

@@ -479,24 +479,25 @@ unsafe fn cross2(u: __m256, v: __m256) -> __m256 {
     _mm256_permute_ps::<YZX>(t)
 }
 
-/// The cofactor transform of `n`: `((b×c)·nₓ + (c×a)·n_y) + (a×b)·n_z` for columns
-/// `a|b = ab`, `c = low(cw)`.
+/// The cofactor transform of `n`, `b × (c·nₓ − a·n_z) + c × (a·n_y)` for columns
+/// `a|b = ab`, `c = low(cw)`: the twin of [`super::skinning_lbs::cofactor_transform`], with
+/// both cross products in one 256-bit [`cross2`].
 ///
 /// # Safety
 /// AVX2; `n` readable.
 #[target_feature(enable = "avx2")]
 #[inline]
 unsafe fn cofactor(ab: __m256, cw: __m256, n: *const Vec3) -> __m128 {
-    let bc = _mm256_permute2f128_ps::<0x21>(ab, cw); // b | c
-    let ca = _mm256_permute2f128_ps::<0x20>(cw, ab); // c | a
-    let pair = cross2(bc, ca); // b×c | c×a
     let a = _mm256_castps256_ps128(ab);
-    let b = _mm256_extractf128_ps::<1>(ab);
-    let ab_x = _mm256_castps256_ps128(cross2(_mm256_castps128_ps256(a), _mm256_castps128_ps256(b)));
-    let nxy = _mm256_blend_ps::<0xf0>(_mm256_broadcast_ss(&(*n).x), _mm256_broadcast_ss(&(*n).y));
-    let t = _mm256_mul_ps(pair, nxy);
-    let s = _mm_add_ps(_mm256_castps256_ps128(t), _mm256_extractf128_ps::<1>(t));
-    _mm_add_ps(s, _mm_mul_ps(ab_x, _mm_broadcast_ss(&(*n).z)))
+    let c = _mm256_castps256_ps128(cw);
+    let u = _mm_sub_ps(
+        _mm_mul_ps(c, _mm_broadcast_ss(&(*n).x)),
+        _mm_mul_ps(a, _mm_broadcast_ss(&(*n).z)),
+    );
+    let v = _mm_mul_ps(a, _mm_broadcast_ss(&(*n).y));
+    let bc = _mm256_permute2f128_ps::<0x21>(ab, cw); // b | c
+    let t = cross2(bc, _mm256_set_m128(v, u)); // b×u | c×v
+    _mm_add_ps(_mm256_castps256_ps128(t), _mm256_extractf128_ps::<1>(t))
 }
 
 /// `(uₓ² + u_y²) + u_z²` in lane 0.

@@ -218,12 +218,13 @@ pub(super) fn transform_point(m: &[Vec4; 4], p: Vec3) -> Vec3 {
     (((m[0] * p.x + m[1] * p.y) + m[2] * p.z) + m[3]).truncate()
 }
 
-/// Cofactor (adjugate transpose) of the upper 3×3 of `m` applied to `n`:
-/// `((b×c)·nₓ + (c×a)·n_y) + (a×b)·n_z` for columns `a, b, c`.
+/// Cofactor (adjugate transpose) of the upper 3×3 of `m` applied to `n`, that is
+/// `(b×c)·nₓ + (c×a)·n_y + (a×b)·n_z` for columns `a, b, c`, computed with two cross
+/// products instead of three as `b × (c·nₓ − a·n_z) + c × (a·n_y)`.
 #[inline(always)]
 pub(super) fn cofactor_transform(m: &[Vec4; 4], n: Vec3A) -> Vec3A {
     let (a, b, c) = (Vec3A::from_vec4(m[0]), Vec3A::from_vec4(m[1]), Vec3A::from_vec4(m[2]));
-    b.cross(c) * n.x + c.cross(a) * n.y + a.cross(b) * n.z
+    b.cross(c * n.x - a * n.z) + c.cross(a * n.y)
 }
 
 /// `u · (1 / √((uₓ² + u_y²) + u_z²))` when that factor is finite and positive, else
@@ -436,5 +437,36 @@ mod tests {
         assert!((p[0] - m.transform_point3(pos[0])).length() < 1e-6);
         assert!((n[0] - m.transform_vector3(Vec3::Y)).length() < 1e-6);
         assert_eq!((p[1], n[1]), (pos[1], nrm[1]));
+    }
+
+    #[test]
+    fn cofactor_transform_is_the_inverse_transpose_times_the_determinant() {
+        // Exact cases: the identity keeps n; diag(2, 3, 4) gives diag(12, 8, 6) · n.
+        let n = Vec3A::new(0.25, -0.5, 0.75);
+        assert_eq!(
+            cofactor_transform(&Mat4::IDENTITY.to_cols_array_2d().map(Vec4::from), n),
+            n
+        );
+        let d = Mat4::from_scale(Vec3::new(2.0, 3.0, 4.0))
+            .to_cols_array_2d()
+            .map(Vec4::from);
+        assert_eq!(cofactor_transform(&d, n), Vec3A::new(3.0, -4.0, 4.5));
+        // Random matrices: det(M) · M⁻ᵀ · n, and the three-cross-product form it replaced.
+        let (_, nrm, pal) = rig(200, 50, 11);
+        for (m, n) in pal.iter().zip(&nrm) {
+            let cols = m.to_cols_array_2d().map(Vec4::from);
+            let got = cofactor_transform(&cols, (*n).into());
+            let m3 = glam::Mat3::from_mat4(*m);
+            if m3.determinant() == 0.0 {
+                assert_eq!(got, Vec3A::ZERO, "the zero matrix");
+                continue;
+            }
+            let want = m3.inverse().transpose() * *n * m3.determinant();
+            let (a, b, c) = (m3.x_axis, m3.y_axis, m3.z_axis);
+            let three = b.cross(c) * n.x + c.cross(a) * n.y + a.cross(b) * n.z;
+            let scale = want.length().max(1.0);
+            assert!((Vec3::from(got) - want).length() < 1e-5 * scale, "{got} vs {want}");
+            assert!((Vec3::from(got) - three).length() < 1e-5 * scale, "{got} vs {three}");
+        }
     }
 }
