@@ -50,6 +50,7 @@ pub mod skin_cluster;
 pub mod skin_weights;
 pub mod skinning;
 mod skinning_avx2;
+mod skinning_avx2_normals;
 mod skinning_lbs;
 pub mod surface;
 pub mod weights;

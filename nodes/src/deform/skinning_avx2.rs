@@ -7,15 +7,18 @@
 //! is finite and `≥ 0` and every row has a positive weight, the joints index the palette
 //! directly with no per-vertex test. Otherwise each vertex of the group is validated on its
 //! own: invalid influences point at a zero matrix with weight 0, exactly as
-//! [`super::skinning_lbs::blend4`] does. Normals are normalized 64 vertices at a time
-//! after the blend, 8 lanes per vector square root and division, so their long latency
-//! stays off the per-vertex path.
+//! [`super::skinning_lbs::blend4`] does. Normals are done after the blend of 64 vertices,
+//! from the blended matrices kept on the stack, eight vertices at a time in
+//! structure-of-arrays form (one lane per vertex: the cofactor transform, the square root
+//! and the division with no shuffles between them), so their long dependency chains stay
+//! off the per-vertex path and the shuffles are few.
 //!
 //! Every operation is the lane-wise twin of the portable code (same operands, same order,
 //! no fused multiply-add), so results are bit-identical to
 //! [`super::skinning_lbs::Lbs::run_generic`].
 #![cfg(target_arch = "x86_64")]
 
+use super::skinning_avx2_normals::{normals_block, Block, BLOCK};
 use super::skinning_lbs::{blend_matrix, Lbs};
 use core::arch::x86_64::*;
 use glam::{Mat4, Vec3, Vec4};
@@ -106,11 +109,7 @@ impl Ctx<'_, '_> {
             ws: ws.as_ptr(),
             count,
         };
-        let mut buf = Block {
-            u: [_mm_setzero_ps(); BLOCK],
-            d: [1.0; BLOCK],
-            r: [0.0; BLOCK],
-        };
+        let mut buf = Block::new();
         let mut b0 = 0;
         while b0 < count {
             let n = BLOCK.min(count - b0);
@@ -118,14 +117,14 @@ impl Ctx<'_, '_> {
             let has = self.span::<N, U, T>(&io, &mut buf, b0, n);
             if N {
                 // SAFETY: as above.
-                normalize_block(&io, &mut buf, b0, n, has);
+                normals_block(&io, &mut buf, b0, n, has);
             }
             b0 += BLOCK;
         }
     }
 
-    /// Deforms the positions of chunk vertices `b0..b0 + n`; with `N` also fills `buf.u`
-    /// and `buf.d` with the unnormalized normals and their squared lengths. Returns a bit
+    /// Deforms the positions of chunk vertices `b0..b0 + n`; with `N` also keeps their
+    /// blended matrices in `buf.m` for [`normals_block`]. Returns a bit
     /// per vertex: set when it was deformed (clear: copied from the rest pose).
     ///
     /// # Safety
@@ -193,30 +192,27 @@ impl Ctx<'_, '_> {
             None => {
                 // SAFETY: v < count = pos.len() = out_p.len().
                 *io.out_p.add(v) = *self.pos.as_ptr().add(v);
-                buf.d[l] = 1.0;
                 0
             }
         }
     }
 
-    /// Stores vertex `v` transformed by the blended matrix; with `N`, its unnormalized
-    /// normal and squared length go to slot `l` of `buf`.
+    /// Stores vertex `v` transformed by the blended matrix; with `N`, keeps the matrix in
+    /// slot `l` of `buf` for its normal.
     ///
     /// # Safety
     /// AVX2; `v < count`, `l < BLOCK`; the slices of `io` as in [`Ctx::drive`].
     #[target_feature(enable = "avx2")]
     #[inline]
     unsafe fn emit<const N: bool>(&self, io: &Io, buf: &mut Block, v: usize, l: usize, ab: __m256, cw: __m256) {
-        // SAFETY: v < count = pos.len() = out_p.len() (= nrm.len() with N).
+        // SAFETY: v < count = pos.len() = out_p.len().
         store3(
             io.out_p.add(v),
             transform(ab, cw, self.pos.as_ptr().add(v)),
             v + 1 < io.count,
         );
         if N {
-            let u = cofactor(ab, cw, io.nrm.add(v));
-            buf.u[l] = u;
-            _mm_store_ss(&mut buf.d[l], len2(u));
+            buf.keep(l, ab, cw);
         }
     }
 
@@ -243,51 +239,6 @@ impl Ctx<'_, '_> {
         let f = m.as_ptr() as *const f32;
         // SAFETY: `[Vec4; 4]` is 16 contiguous `f32`.
         Some((_mm256_loadu_ps(f), _mm256_loadu_ps(f.add(8))))
-    }
-}
-
-/// Vertices per normalization block (a multiple of 8, at most 64: bit masks are `u64`).
-const BLOCK: usize = 64;
-
-/// Per-block scratch on the stack: unnormalized normals, squared lengths, reciprocals.
-struct Block {
-    u: [__m128; BLOCK],
-    d: [f32; BLOCK],
-    r: [f32; BLOCK],
-}
-
-/// Writes the normals of chunk vertices `b0..b0 + n`: `u · r` with `r = 1 / √d` where
-/// `has` is set and `0 < r < ∞`, else the rest normal.
-///
-/// # Safety
-/// AVX2; `n ≤ BLOCK`, `b0 + n ≤ count`; `io.nrm` and `io.out_n` hold `count` vertices.
-#[target_feature(enable = "avx2")]
-#[inline]
-unsafe fn normalize_block(io: &Io, buf: &mut Block, b0: usize, n: usize, has: u64) {
-    let mut ok = 0u64;
-    for l in (0..n).step_by(8) {
-        // SAFETY: l + 8 ≤ BLOCK (a multiple of 8); lanes ≥ n are ignored.
-        let r = _mm256_div_ps(
-            _mm256_set1_ps(1.0),
-            _mm256_sqrt_ps(_mm256_loadu_ps(buf.d.as_ptr().add(l))),
-        );
-        let good = _mm256_and_ps(
-            _mm256_cmp_ps::<_CMP_GT_OQ>(r, _mm256_setzero_ps()),
-            _mm256_cmp_ps::<_CMP_LT_OQ>(r, _mm256_set1_ps(f32::INFINITY)),
-        );
-        ok |= (_mm256_movemask_ps(good) as u64) << l;
-        _mm256_storeu_ps(buf.r.as_mut_ptr().add(l), r);
-    }
-    ok &= has;
-    for l in 0..n {
-        let v = b0 + l;
-        // SAFETY: v < count = nrm.len() = out_n.len().
-        let o = io.out_n.add(v);
-        if ok & (1 << l) != 0 {
-            store3(o, _mm_mul_ps(buf.u[l], _mm_broadcast_ss(&buf.r[l])), v + 1 < io.count);
-        } else {
-            *o = *io.nrm.add(v);
-        }
     }
 }
 
@@ -330,13 +281,13 @@ fn general_row(js: &[u32], ws: &[f32], palette: &[Mat4]) -> Option<[Vec4; 4]> {
 }
 
 /// Raw views of a chunk's buffers, `count` vertices each (`js`/`ws`: `4 · count` or unused).
-struct Io {
-    out_p: *mut Vec3,
-    out_n: *mut Vec3,
-    nrm: *const Vec3,
-    js: *const u32,
-    ws: *const f32,
-    count: usize,
+pub(super) struct Io {
+    pub(super) out_p: *mut Vec3,
+    pub(super) out_n: *mut Vec3,
+    pub(super) nrm: *const Vec3,
+    pub(super) js: *const u32,
+    pub(super) ws: *const f32,
+    pub(super) count: usize,
 }
 
 /// A row of fewer than four influences, padded to four with `0 · ZERO` exactly as the
@@ -467,48 +418,6 @@ unsafe fn transform(ab: __m256, cw: __m256, p: *const Vec3) -> __m128 {
     _mm_add_ps(_mm_add_ps(_mm_add_ps(x, y), z), _mm256_extractf128_ps::<1>(cw))
 }
 
-/// `u × v` of the `xyz` lanes of each 128-bit half, as `x = u_y v_z − u_z v_y` etc.
-#[target_feature(enable = "avx2")]
-#[inline]
-unsafe fn cross2(u: __m256, v: __m256) -> __m256 {
-    const YZX: i32 = 0b11_00_10_01;
-    let t = _mm256_sub_ps(
-        _mm256_mul_ps(u, _mm256_permute_ps::<YZX>(v)),
-        _mm256_mul_ps(_mm256_permute_ps::<YZX>(u), v),
-    );
-    _mm256_permute_ps::<YZX>(t)
-}
-
-/// The cofactor transform of `n`, `b × (c·nₓ − a·n_z) + c × (a·n_y)` for columns
-/// `a|b = ab`, `c = low(cw)`: the twin of [`super::skinning_lbs::cofactor_transform`], with
-/// both cross products in one 256-bit [`cross2`].
-///
-/// # Safety
-/// AVX2; `n` readable.
-#[target_feature(enable = "avx2")]
-#[inline]
-unsafe fn cofactor(ab: __m256, cw: __m256, n: *const Vec3) -> __m128 {
-    let a = _mm256_castps256_ps128(ab);
-    let c = _mm256_castps256_ps128(cw);
-    let u = _mm_sub_ps(
-        _mm_mul_ps(c, _mm_broadcast_ss(&(*n).x)),
-        _mm_mul_ps(a, _mm_broadcast_ss(&(*n).z)),
-    );
-    let v = _mm_mul_ps(a, _mm_broadcast_ss(&(*n).y));
-    let bc = _mm256_permute2f128_ps::<0x21>(ab, cw); // b | c
-    let t = cross2(bc, _mm256_set_m128(v, u)); // b×u | c×v
-    _mm_add_ps(_mm256_castps256_ps128(t), _mm256_extractf128_ps::<1>(t))
-}
-
-/// `(uₓ² + u_y²) + u_z²` in lane 0.
-#[target_feature(enable = "avx2")]
-#[inline]
-unsafe fn len2(u: __m128) -> __m128 {
-    let sq = _mm_mul_ps(u, u);
-    let xy = _mm_add_ss(sq, _mm_movehdup_ps(sq));
-    _mm_add_ss(xy, _mm_movehl_ps(sq, sq))
-}
-
 /// Stores the `xyz` lanes of `v` at `dst`; with `wide`, as one 16-byte store that also
 /// writes the next vertex's `x` (which the caller overwrites afterwards).
 ///
@@ -516,7 +425,7 @@ unsafe fn len2(u: __m128) -> __m128 {
 /// AVX2; `dst` writable for 12 bytes, 16 with `wide`.
 #[target_feature(enable = "avx2")]
 #[inline]
-unsafe fn store3(dst: *mut Vec3, v: __m128, wide: bool) {
+pub(super) unsafe fn store3(dst: *mut Vec3, v: __m128, wide: bool) {
     let f = dst as *mut f32;
     if wide {
         _mm_storeu_ps(f, v);
