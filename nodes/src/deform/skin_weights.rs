@@ -8,7 +8,9 @@
 //! - when every row then holds four *usable* influences (finite weights `≥ 0`, a positive
 //!   weight in each row), the largest joint index is recorded. A call whose palette is
 //!   longer than that index skips the per-vertex validation entirely: its result is the
-//!   one the validation would have allowed anyway.
+//!   one the validation would have allowed anyway. Clean weights whose joints all fit in
+//!   16 bits also keep their joints as `u16` (8 bytes a vertex instead of 16): the AVX2
+//!   kernel reads a vertex's four joints with one load.
 
 use sinew_core::data::Weights;
 
@@ -22,6 +24,7 @@ pub struct PreparedWeights {
     weights: Weights,
     padded: bool,
     clean_max_joint: Option<u32>,
+    joints16: Vec<u16>,
 }
 
 impl PreparedWeights {
@@ -33,10 +36,15 @@ impl PreparedWeights {
             None => (w.clone(), false),
         };
         let clean_max_joint = clean_max_joint(&weights);
+        let joints16 = match clean_max_joint {
+            Some(m) if m <= u32::from(u16::MAX) => weights.joints.iter().map(|&j| j as u16).collect(),
+            _ => Vec::new(),
+        };
         PreparedWeights {
             weights,
             padded,
             clean_max_joint,
+            joints16,
         }
     }
 
@@ -56,6 +64,13 @@ impl PreparedWeights {
     /// otherwise (the kernels then validate each vertex as they do for raw weights).
     pub fn clean_max_joint(&self) -> Option<u32> {
         self.clean_max_joint
+    }
+
+    /// The joints of [`PreparedWeights::weights`] as `u16` when the weights are clean
+    /// ([`PreparedWeights::clean_max_joint`]) and every joint is below 65,536; empty
+    /// otherwise.
+    pub fn joints16(&self) -> &[u16] {
+        &self.joints16
     }
 }
 
@@ -85,6 +100,14 @@ impl<'a> SkinWeights<'a> {
         match self {
             SkinWeights::Raw(_) => false,
             SkinWeights::Prepared(p) => p.clean_max_joint.is_some_and(|m| (m as usize) < palette_len),
+        }
+    }
+
+    /// [`PreparedWeights::joints16`] of prepared weights; empty for raw ones.
+    pub(super) fn joints16(&self) -> &'a [u16] {
+        match *self {
+            SkinWeights::Raw(_) => &[],
+            SkinWeights::Prepared(p) => &p.joints16,
         }
     }
 }
@@ -167,6 +190,21 @@ mod tests {
             "joint 5 is outside a 5-matrix palette"
         );
         assert!(!SkinWeights::from(&w).trusted(100), "raw weights are never trusted");
+        assert_eq!(p.joints16(), &[0, 5, 2, 1, 3, 3, 3, 3]);
+        assert_eq!(SkinWeights::from(&p).joints16(), p.joints16());
+        assert!(SkinWeights::from(&w).joints16().is_empty());
+    }
+
+    #[test]
+    fn u16_joints_only_for_clean_weights_that_fit() {
+        let row = |j: u32| vec![(j, 0.25), (1, 0.25), (2, 0.25), (3, 0.25)];
+        let fits = PreparedWeights::new(&Weights::from_lists([row(65_535)]));
+        assert_eq!(fits.joints16(), &[65_535, 1, 2, 3]);
+        let wide = PreparedWeights::new(&Weights::from_lists([row(65_536)]));
+        assert_eq!(wide.clean_max_joint(), Some(65_536));
+        assert!(wide.joints16().is_empty(), "joint 65,536 does not fit in 16 bits");
+        let unclean = PreparedWeights::new(&Weights::from_lists([vec![(0, 1.0)]]));
+        assert!(unclean.joints16().is_empty(), "padded rows are not clean");
     }
 
     #[test]

@@ -203,6 +203,7 @@ impl<'a> Kernel<'a> {
                 weights: &weights.weights,
                 palette: input.palette,
                 trusted: input.weights.trusted(input.palette.len()),
+                joints16: input.weights.joints16(),
             },
             dq: &[],
             has_stretch: false,

@@ -46,19 +46,49 @@ pub(super) unsafe fn run(k: &Lbs<'_>, start: usize, out_p: &mut [Vec3], out_n: &
         len_x: _mm256_set1_epi32((k.palette.len() as u32 ^ SIGN) as i32),
     };
     let ctx = Ctx { k, pal, start, pos };
-    match (out_n.is_empty(), nrm, uniform, trusted.is_some()) {
-        (true, _, Some((j, w)), true) => ctx.drive::<false, true, true>(out_p, &mut [], &[], j, w),
-        (true, _, Some((j, w)), false) => ctx.drive::<false, true, false>(out_p, &mut [], &[], j, w),
-        (true, _, None, _) => ctx.drive::<false, false, false>(out_p, &mut [], &[], &[], &[]),
-        (false, Some(n), Some((j, w)), true) if out_n.len() == count => {
-            ctx.drive::<true, true, true>(out_p, out_n, n, j, w)
+    fn rows<'a>(js: &'a [u32], ws: &'a [f32]) -> Rows<'a> {
+        Rows { js, js16: &[], ws }
+    }
+    let none = Rows {
+        js: &[],
+        js16: &[],
+        ws: &[],
+    };
+    let compact = trusted.and_then(|(js, ws)| {
+        Some(Rows {
+            js16: k.rows4_16(start, count)?,
+            js,
+            ws,
+        })
+    });
+    match (out_n.is_empty(), nrm, uniform, trusted.is_some(), compact) {
+        (true, _, _, _, Some(r)) => ctx.drive::<false, true, true, true>(out_p, &mut [], &[], r),
+        (true, _, Some((j, w)), true, None) => ctx.drive::<false, true, true, false>(out_p, &mut [], &[], rows(j, w)),
+        (true, _, Some((j, w)), false, _) => ctx.drive::<false, true, false, false>(out_p, &mut [], &[], rows(j, w)),
+        (true, _, None, _, _) => ctx.drive::<false, false, false, false>(out_p, &mut [], &[], none),
+        (false, Some(n), _, _, Some(r)) if out_n.len() == count => {
+            ctx.drive::<true, true, true, true>(out_p, out_n, n, r)
         }
-        (false, Some(n), Some((j, w)), false) if out_n.len() == count => {
-            ctx.drive::<true, true, false>(out_p, out_n, n, j, w)
+        (false, Some(n), Some((j, w)), true, None) if out_n.len() == count => {
+            ctx.drive::<true, true, true, false>(out_p, out_n, n, rows(j, w))
         }
-        (false, Some(n), None, _) if out_n.len() == count => ctx.drive::<true, false, false>(out_p, out_n, n, &[], &[]),
+        (false, Some(n), Some((j, w)), false, _) if out_n.len() == count => {
+            ctx.drive::<true, true, false, false>(out_p, out_n, n, rows(j, w))
+        }
+        (false, Some(n), None, _, _) if out_n.len() == count => {
+            ctx.drive::<true, false, false, false>(out_p, out_n, n, none)
+        }
         _ => k.run_generic(start, out_p, out_n),
     }
+}
+
+/// A chunk's uniform four-influence rows: joints (as `u32`, and as `u16` when compact) and
+/// weights, `4 · count` entries each, or all empty when rows are looked up per vertex.
+#[derive(Clone, Copy)]
+struct Rows<'a> {
+    js: &'a [u32],
+    js16: &'a [u16],
+    ws: &'a [f32],
 }
 
 const SIGN: u32 = 0x8000_0000;
@@ -84,28 +114,32 @@ struct Ctx<'a, 'b> {
 
 impl Ctx<'_, '_> {
     /// The main loop. `N`: with normals (`nrm` and `out_n` as long as `out_p`); `U`: uniform
-    /// rows, `js`/`ws` hold `4 · count` entries (else rows are looked up per vertex); `T`
-    /// (with `U`): the rows are known to pass [`check8`] ([`Lbs::trusted`]), so it is skipped.
+    /// rows, `rows.js`/`rows.ws` hold `4 · count` entries (else rows are looked up per
+    /// vertex); `T` (with `U`): the rows are known to pass [`check8`] ([`Lbs::trusted`]), so
+    /// it is skipped; `C` (with `T`): the joints are read from `rows.js16`, which holds
+    /// `4 · count` entries too.
     ///
     /// # Safety
     /// AVX2; `self.pos.len() == out_p.len()`, the other slices as described.
     #[target_feature(enable = "avx2")]
-    unsafe fn drive<const N: bool, const U: bool, const T: bool>(
+    unsafe fn drive<const N: bool, const U: bool, const T: bool, const C: bool>(
         &self,
         out_p: &mut [Vec3],
         out_n: &mut [Vec3],
         nrm: &[Vec3],
-        js: &[u32],
-        ws: &[f32],
+        rows: Rows<'_>,
     ) {
         let count = out_p.len();
+        let (js, ws) = (rows.js, rows.ws);
         debug_assert!(self.pos.len() == count && (!U || (js.len() == 4 * count && ws.len() == 4 * count)));
+        debug_assert!(!C || (T && rows.js16.len() == 4 * count));
         debug_assert!(!N || (nrm.len() == count && out_n.len() == count));
         let io = Io {
             out_p: out_p.as_mut_ptr(),
             out_n: out_n.as_mut_ptr(),
             nrm: nrm.as_ptr(),
             js: js.as_ptr(),
+            js16: rows.js16.as_ptr(),
             ws: ws.as_ptr(),
             count,
         };
@@ -114,7 +148,7 @@ impl Ctx<'_, '_> {
         while b0 < count {
             let n = BLOCK.min(count - b0);
             // SAFETY: b0 + n ≤ count.
-            let has = self.span::<N, U, T>(&io, &mut buf, b0, n);
+            let has = self.span::<N, U, T, C>(&io, &mut buf, b0, n);
             if N {
                 // SAFETY: as above.
                 normals_block(&io, &mut buf, b0, n, has);
@@ -131,7 +165,7 @@ impl Ctx<'_, '_> {
     /// AVX2; `n ≤ BLOCK`, `b0 + n ≤ count`; the slices of `io` as in [`Ctx::drive`].
     #[target_feature(enable = "avx2")]
     #[inline]
-    unsafe fn span<const N: bool, const U: bool, const T: bool>(
+    unsafe fn span<const N: bool, const U: bool, const T: bool, const C: bool>(
         &self,
         io: &Io,
         buf: &mut Block,
@@ -147,17 +181,19 @@ impl Ctx<'_, '_> {
                 if T || check8(self.pal, io.js.add(4 * v), io.ws.add(4 * v)) {
                     let base = self.pal.base as *const u8;
                     for k in 0..8 {
-                        // Joints reloaded as scalars: reading them back from a vector store
-                        // would stall on store-to-load forwarding.
-                        let o = io.js.add(4 * (v + k));
+                        // Joints read as scalars: reading them back from a vector store
+                        // would stall on store-to-load forwarding. Compact ones: four in
+                        // one 8-byte load.
+                        let j = if C {
+                            let q = (io.js16.add(4 * (v + k)) as *const u64).read_unaligned();
+                            [q & 0xffff, (q >> 16) & 0xffff, (q >> 32) & 0xffff, q >> 48].map(|j| j as usize)
+                        } else {
+                            let o = io.js.add(4 * (v + k));
+                            [*o, *o.add(1), *o.add(2), *o.add(3)].map(|j| j as usize)
+                        };
                         // SAFETY: `check8` (or, with `T`, the prepared weights) proved every joint <
                         // palette length.
-                        let m = [
-                            base.add((*o as usize) << 6) as *const f32,
-                            base.add((*o.add(1) as usize) << 6) as *const f32,
-                            base.add((*o.add(2) as usize) << 6) as *const f32,
-                            base.add((*o.add(3) as usize) << 6) as *const f32,
-                        ];
+                        let m = j.map(|j| base.add(j << 6) as *const f32);
                         let (ab, cw) = blend_ptrs(m, io.ws.add(4 * (v + k)));
                         self.emit::<N>(io, buf, v + k, l + k, ab, cw);
                     }
@@ -280,12 +316,14 @@ fn general_row(js: &[u32], ws: &[f32], palette: &[Mat4]) -> Option<[Vec4; 4]> {
     blend_matrix(js, ws, palette)
 }
 
-/// Raw views of a chunk's buffers, `count` vertices each (`js`/`ws`: `4 · count` or unused).
+/// Raw views of a chunk's buffers, `count` vertices each (`js`/`ws`, and `js16` when
+/// compact: `4 · count` or unused).
 pub(super) struct Io {
     pub(super) out_p: *mut Vec3,
     pub(super) out_n: *mut Vec3,
     pub(super) nrm: *const Vec3,
     pub(super) js: *const u32,
+    pub(super) js16: *const u16,
     pub(super) ws: *const f32,
     pub(super) count: usize,
 }
