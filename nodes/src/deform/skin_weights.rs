@@ -8,9 +8,10 @@
 //! - when every row then holds four *usable* influences (finite weights `≥ 0`, a positive
 //!   weight in each row), the largest joint index is recorded. A call whose palette is
 //!   longer than that index skips the per-vertex validation entirely: its result is the
-//!   one the validation would have allowed anyway. Clean weights whose joints all fit in
-//!   16 bits also keep their joints as `u16` (8 bytes a vertex instead of 16): the AVX2
-//!   kernel reads a vertex's four joints with one load.
+//!   one the validation would have allowed anyway. Clean weights whose joints are all
+//!   below 1,024 also keep each joint's byte offset in the palette (`64 · joint`) as a
+//!   `u16` (8 bytes a vertex instead of 16): the AVX2 kernel then addresses the palette
+//!   with no arithmetic.
 
 use sinew_core::data::Weights;
 
@@ -24,7 +25,7 @@ pub struct PreparedWeights {
     weights: Weights,
     padded: bool,
     clean_max_joint: Option<u32>,
-    joints16: Vec<u16>,
+    palette_offsets: Vec<u16>,
 }
 
 impl PreparedWeights {
@@ -36,15 +37,15 @@ impl PreparedWeights {
             None => (w.clone(), false),
         };
         let clean_max_joint = clean_max_joint(&weights);
-        let joints16 = match clean_max_joint {
-            Some(m) if m <= u32::from(u16::MAX) => weights.joints.iter().map(|&j| j as u16).collect(),
+        let palette_offsets = match clean_max_joint {
+            Some(m) if m < OFFSET_JOINTS => weights.joints.iter().map(|&j| (j * MATRIX_BYTES) as u16).collect(),
             _ => Vec::new(),
         };
         PreparedWeights {
             weights,
             padded,
             clean_max_joint,
-            joints16,
+            palette_offsets,
         }
     }
 
@@ -66,13 +67,19 @@ impl PreparedWeights {
         self.clean_max_joint
     }
 
-    /// The joints of [`PreparedWeights::weights`] as `u16` when the weights are clean
-    /// ([`PreparedWeights::clean_max_joint`]) and every joint is below 65,536; empty
-    /// otherwise.
-    pub fn joints16(&self) -> &[u16] {
-        &self.joints16
+    /// The byte offset (`64 · joint`) of each joint of [`PreparedWeights::weights`] in a
+    /// `Mat4` palette when the weights are clean ([`PreparedWeights::clean_max_joint`])
+    /// and every joint is below 1,024; empty otherwise.
+    pub(super) fn palette_offsets(&self) -> &[u16] {
+        &self.palette_offsets
     }
 }
+
+/// Bytes of one palette matrix (`Mat4`).
+const MATRIX_BYTES: u32 = 64;
+
+/// Joints below this have a palette byte offset that fits in a `u16`.
+const OFFSET_JOINTS: u32 = (u16::MAX as u32 + 1) / MATRIX_BYTES;
 
 /// Which weights a skinning call reads.
 #[derive(Clone, Copy, Debug)]
@@ -103,11 +110,11 @@ impl<'a> SkinWeights<'a> {
         }
     }
 
-    /// [`PreparedWeights::joints16`] of prepared weights; empty for raw ones.
-    pub(super) fn joints16(&self) -> &'a [u16] {
+    /// [`PreparedWeights::palette_offsets`] of prepared weights; empty for raw ones.
+    pub(super) fn palette_offsets(&self) -> &'a [u16] {
         match *self {
             SkinWeights::Raw(_) => &[],
-            SkinWeights::Prepared(p) => &p.joints16,
+            SkinWeights::Prepared(p) => &p.palette_offsets,
         }
     }
 }
@@ -190,21 +197,26 @@ mod tests {
             "joint 5 is outside a 5-matrix palette"
         );
         assert!(!SkinWeights::from(&w).trusted(100), "raw weights are never trusted");
-        assert_eq!(p.joints16(), &[0, 5, 2, 1, 3, 3, 3, 3]);
-        assert_eq!(SkinWeights::from(&p).joints16(), p.joints16());
-        assert!(SkinWeights::from(&w).joints16().is_empty());
+        assert_eq!(p.palette_offsets(), &[0, 320, 128, 64, 192, 192, 192, 192]);
+        assert_eq!(SkinWeights::from(&p).palette_offsets(), p.palette_offsets());
+        assert!(SkinWeights::from(&w).palette_offsets().is_empty());
     }
 
     #[test]
-    fn u16_joints_only_for_clean_weights_that_fit() {
+    fn palette_offsets_only_for_clean_weights_that_fit() {
+        assert_eq!(OFFSET_JOINTS, 1024);
+        assert_eq!(std::mem::size_of::<glam::Mat4>() as u32, MATRIX_BYTES);
         let row = |j: u32| vec![(j, 0.25), (1, 0.25), (2, 0.25), (3, 0.25)];
-        let fits = PreparedWeights::new(&Weights::from_lists([row(65_535)]));
-        assert_eq!(fits.joints16(), &[65_535, 1, 2, 3]);
-        let wide = PreparedWeights::new(&Weights::from_lists([row(65_536)]));
-        assert_eq!(wide.clean_max_joint(), Some(65_536));
-        assert!(wide.joints16().is_empty(), "joint 65,536 does not fit in 16 bits");
+        let fits = PreparedWeights::new(&Weights::from_lists([row(1023)]));
+        assert_eq!(fits.palette_offsets(), &[65_472, 64, 128, 192]);
+        let wide = PreparedWeights::new(&Weights::from_lists([row(1024)]));
+        assert_eq!(wide.clean_max_joint(), Some(1024));
+        assert!(
+            wide.palette_offsets().is_empty(),
+            "joint 1,024's offset does not fit in 16 bits"
+        );
         let unclean = PreparedWeights::new(&Weights::from_lists([vec![(0, 1.0)]]));
-        assert!(unclean.joints16().is_empty(), "padded rows are not clean");
+        assert!(unclean.palette_offsets().is_empty(), "padded rows are not clean");
     }
 
     #[test]

@@ -203,7 +203,7 @@ impl<'a> Kernel<'a> {
                 weights: &weights.weights,
                 palette: input.palette,
                 trusted: input.weights.trusted(input.palette.len()),
-                joints16: input.weights.joints16(),
+                palette_offsets: input.weights.palette_offsets(),
             },
             dq: &[],
             has_stretch: false,

@@ -47,16 +47,16 @@ pub(super) unsafe fn run(k: &Lbs<'_>, start: usize, out_p: &mut [Vec3], out_n: &
     };
     let ctx = Ctx { k, pal, start, pos };
     fn rows<'a>(js: &'a [u32], ws: &'a [f32]) -> Rows<'a> {
-        Rows { js, js16: &[], ws }
+        Rows { js, offs: &[], ws }
     }
     let none = Rows {
         js: &[],
-        js16: &[],
+        offs: &[],
         ws: &[],
     };
     let compact = trusted.and_then(|(js, ws)| {
         Some(Rows {
-            js16: k.rows4_16(start, count)?,
+            offs: k.rows4_offsets(start, count)?,
             js,
             ws,
         })
@@ -87,7 +87,7 @@ pub(super) unsafe fn run(k: &Lbs<'_>, start: usize, out_p: &mut [Vec3], out_n: &
 #[derive(Clone, Copy)]
 struct Rows<'a> {
     js: &'a [u32],
-    js16: &'a [u16],
+    offs: &'a [u16],
     ws: &'a [f32],
 }
 
@@ -116,8 +116,8 @@ impl Ctx<'_, '_> {
     /// The main loop. `N`: with normals (`nrm` and `out_n` as long as `out_p`); `U`: uniform
     /// rows, `rows.js`/`rows.ws` hold `4 · count` entries (else rows are looked up per
     /// vertex); `T` (with `U`): the rows are known to pass [`check8`] ([`Lbs::trusted`]), so
-    /// it is skipped; `C` (with `T`): the joints are read from `rows.js16`, which holds
-    /// `4 · count` entries too.
+    /// it is skipped; `C` (with `T`): the joints are read as palette byte offsets from
+    /// `rows.offs`, which holds `4 · count` entries too.
     ///
     /// # Safety
     /// AVX2; `self.pos.len() == out_p.len()`, the other slices as described.
@@ -132,14 +132,14 @@ impl Ctx<'_, '_> {
         let count = out_p.len();
         let (js, ws) = (rows.js, rows.ws);
         debug_assert!(self.pos.len() == count && (!U || (js.len() == 4 * count && ws.len() == 4 * count)));
-        debug_assert!(!C || (T && rows.js16.len() == 4 * count));
+        debug_assert!(!C || (T && rows.offs.len() == 4 * count));
         debug_assert!(!N || (nrm.len() == count && out_n.len() == count));
         let io = Io {
             out_p: out_p.as_mut_ptr(),
             out_n: out_n.as_mut_ptr(),
             nrm: nrm.as_ptr(),
             js: js.as_ptr(),
-            js16: rows.js16.as_ptr(),
+            offs: rows.offs.as_ptr(),
             ws: ws.as_ptr(),
             count,
         };
@@ -179,24 +179,17 @@ impl Ctx<'_, '_> {
                 let v = b0 + l;
                 // SAFETY: rows v..v + 8 are within the 4 · count entries.
                 if T || check8(self.pal, io.js.add(4 * v), io.ws.add(4 * v)) {
-                    let base = self.pal.base as *const u8;
-                    for k in 0..8 {
-                        // Joints read as scalars: reading them back from a vector store
-                        // would stall on store-to-load forwarding. Compact ones: four in
-                        // one 8-byte load.
-                        let j = if C {
-                            let q = (io.js16.add(4 * (v + k)) as *const u64).read_unaligned();
-                            [q & 0xffff, (q >> 16) & 0xffff, (q >> 32) & 0xffff, q >> 48].map(|j| j as usize)
-                        } else {
-                            let o = io.js.add(4 * (v + k));
-                            [*o, *o.add(1), *o.add(2), *o.add(3)].map(|j| j as usize)
-                        };
-                        // SAFETY: `check8` (or, with `T`, the prepared weights) proved every joint <
-                        // palette length.
-                        let m = j.map(|j| base.add(j << 6) as *const f32);
-                        let (ab, cw) = blend_ptrs(m, io.ws.add(4 * (v + k)));
-                        self.emit::<N>(io, buf, v + k, l + k, ab, cw);
+                    // Unrolled, so that the wide-store test is made once per group: vertices
+                    // v..v + 6 always have a next vertex (v + 8 ≤ count).
+                    let last_wide = v + 8 < io.count;
+                    macro_rules! vertex {
+                        ($($k:literal)*) => {$(
+                            // SAFETY: v + $k < count; `check8` (or, with `T`, the prepared
+                            // weights) proved every joint < palette length.
+                            self.valid_vertex::<N, C>(io, buf, v + $k, l + $k, $k < 7 || last_wide);
+                        )*};
                     }
+                    vertex!(0 1 2 3 4 5 6 7);
                     has |= 0xff << l;
                 } else {
                     for k in 0..8 {
@@ -213,6 +206,36 @@ impl Ctx<'_, '_> {
         has
     }
 
+    /// One vertex of a uniform row whose influences are known to be valid: blended and
+    /// emitted with no check. `C`: joints read as palette byte offsets. Joints are read as
+    /// scalars: reading them back from a vector store would stall on store-to-load
+    /// forwarding.
+    ///
+    /// # Safety
+    /// AVX2; `v < count`, `l < BLOCK`, every joint of row `v` < palette length; `wide`
+    /// only when `v + 1 < count`; the slices of `io` as in [`Ctx::drive`].
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    unsafe fn valid_vertex<const N: bool, const C: bool>(
+        &self,
+        io: &Io,
+        buf: &mut Block,
+        v: usize,
+        l: usize,
+        wide: bool,
+    ) {
+        let base = self.pal.base as *const u8;
+        let m = if C {
+            let o = io.offs.add(4 * v);
+            [*o, *o.add(1), *o.add(2), *o.add(3)].map(|b| base.add(b as usize) as *const f32)
+        } else {
+            let o = io.js.add(4 * v);
+            [*o, *o.add(1), *o.add(2), *o.add(3)].map(|j| base.add((j as usize) << 6) as *const f32)
+        };
+        let (ab, cw) = blend_ptrs(m, io.ws.add(4 * v));
+        self.emit::<N>(io, buf, v, l, ab, cw, wide);
+    }
+
     /// One vertex with its own influence checks ([`Ctx::matrix`]); 1 when deformed.
     ///
     /// # Safety
@@ -222,7 +245,7 @@ impl Ctx<'_, '_> {
     unsafe fn careful<const N: bool, const U: bool>(&self, io: &Io, buf: &mut Block, v: usize, l: usize) -> u64 {
         match self.matrix::<U>(io, v) {
             Some((ab, cw)) => {
-                self.emit::<N>(io, buf, v, l, ab, cw);
+                self.emit::<N>(io, buf, v, l, ab, cw, v + 1 < io.count);
                 1
             }
             None => {
@@ -233,20 +256,27 @@ impl Ctx<'_, '_> {
         }
     }
 
-    /// Stores vertex `v` transformed by the blended matrix; with `N`, keeps the matrix in
-    /// slot `l` of `buf` for its normal.
+    /// Stores vertex `v` transformed by the blended matrix (as 16 bytes when `wide`); with
+    /// `N`, keeps the matrix in slot `l` of `buf` for its normal.
     ///
     /// # Safety
-    /// AVX2; `v < count`, `l < BLOCK`; the slices of `io` as in [`Ctx::drive`].
+    /// AVX2; `v < count`, `l < BLOCK`; `wide` only when `v + 1 < count`; the slices of `io`
+    /// as in [`Ctx::drive`].
     #[target_feature(enable = "avx2")]
     #[inline]
-    unsafe fn emit<const N: bool>(&self, io: &Io, buf: &mut Block, v: usize, l: usize, ab: __m256, cw: __m256) {
+    #[allow(clippy::too_many_arguments)]
+    unsafe fn emit<const N: bool>(
+        &self,
+        io: &Io,
+        buf: &mut Block,
+        v: usize,
+        l: usize,
+        ab: __m256,
+        cw: __m256,
+        wide: bool,
+    ) {
         // SAFETY: v < count = pos.len() = out_p.len().
-        store3(
-            io.out_p.add(v),
-            transform(ab, cw, self.pos.as_ptr().add(v)),
-            v + 1 < io.count,
-        );
+        store3(io.out_p.add(v), transform(ab, cw, self.pos.as_ptr().add(v)), wide);
         if N {
             buf.keep(l, ab, cw);
         }
@@ -316,14 +346,14 @@ fn general_row(js: &[u32], ws: &[f32], palette: &[Mat4]) -> Option<[Vec4; 4]> {
     blend_matrix(js, ws, palette)
 }
 
-/// Raw views of a chunk's buffers, `count` vertices each (`js`/`ws`, and `js16` when
+/// Raw views of a chunk's buffers, `count` vertices each (`js`/`ws`, and `offs` when
 /// compact: `4 · count` or unused).
 pub(super) struct Io {
     pub(super) out_p: *mut Vec3,
     pub(super) out_n: *mut Vec3,
     pub(super) nrm: *const Vec3,
     pub(super) js: *const u32,
-    pub(super) js16: *const u16,
+    pub(super) offs: *const u16,
     pub(super) ws: *const f32,
     pub(super) count: usize,
 }

@@ -27,9 +27,10 @@ pub(super) struct Lbs<'a> {
     /// (see [`super::skin_weights::PreparedWeights`]): the SIMD kernel skips its
     /// per-vertex validation, which would pass anyway.
     pub trusted: bool,
-    /// With `trusted`, the joints again as `u16` (`joints[i] as u16 == joints16[i]`), or
-    /// empty: the SIMD kernel then reads a vertex's four joints with one 8-byte load.
-    pub joints16: &'a [u16],
+    /// With `trusted`, the byte offset of each joint's matrix in the palette
+    /// (`palette_offsets[i] == 64 · joints[i]`), or empty: the SIMD kernel then addresses
+    /// the palette with no arithmetic.
+    pub palette_offsets: &'a [u16],
 }
 
 impl<'a> Lbs<'a> {
@@ -78,10 +79,11 @@ impl<'a> Lbs<'a> {
         Some((self.joints.get(r.clone())?, self.weights.get(r)?))
     }
 
-    /// The `u16` joints of [`Lbs::rows4`]'s vertices, when [`Lbs::joints16`] has them.
-    pub fn rows4_16(&self, start: usize, count: usize) -> Option<&'a [u16]> {
+    /// The palette offsets of [`Lbs::rows4`]'s vertices, when [`Lbs::palette_offsets`] has
+    /// them.
+    pub fn rows4_offsets(&self, start: usize, count: usize) -> Option<&'a [u16]> {
         let r = start.checked_mul(4)?..start.checked_add(count)?.checked_mul(4)?;
-        self.joints16.get(r)
+        self.palette_offsets.get(r)
     }
 
     /// Deforms vertices `start..start + out_p.len()`; `out_n` is empty or as long as `out_p`.
@@ -326,7 +328,7 @@ mod tests {
             weights: &w.weights,
             palette,
             trusted,
-            joints16: &[],
+            palette_offsets: &[],
         }
     }
 
@@ -409,15 +411,19 @@ mod tests {
         let lbs = lbs_of(&pos, &nrm, w, &pal, true);
         assert_kernels_agree(&lbs, "trusted");
         assert!(lbs.rows4(n - 2, 3).is_none(), "rows past the end");
-        // The same with the joints read as u16 (one 8-byte load per vertex).
+        // The same with the joints read as palette byte offsets.
         let compact = Lbs {
-            joints16: prepared.joints16(),
+            palette_offsets: prepared.palette_offsets(),
             ..lbs
         };
-        assert_eq!(compact.joints16.len(), 4 * n);
-        assert!(compact.joints16.iter().zip(&w.joints).all(|(&a, &b)| u32::from(a) == b));
-        assert_kernels_agree(&compact, "trusted, u16 joints");
-        assert!(compact.rows4_16(n - 2, 3).is_none(), "u16 rows past the end");
+        assert_eq!(compact.palette_offsets.len(), 4 * n);
+        assert!(compact
+            .palette_offsets
+            .iter()
+            .zip(&w.joints)
+            .all(|(&a, &b)| u32::from(a) == 64 * b));
+        assert_kernels_agree(&compact, "trusted, palette offsets");
+        assert!(compact.rows4_offsets(n - 2, 3).is_none(), "offset rows past the end");
     }
 
     #[test]
