@@ -114,7 +114,7 @@ impl<'a> SkinWeights<'a> {
     pub(super) fn palette_offsets(&self) -> &'a [u16] {
         match *self {
             SkinWeights::Raw(_) => &[],
-            SkinWeights::Prepared(p) => &p.palette_offsets,
+            SkinWeights::Prepared(p) => p.palette_offsets(),
         }
     }
 }
