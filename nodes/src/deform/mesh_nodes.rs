@@ -220,24 +220,16 @@ pub fn transform_mesh_into(src: &Mesh, m: &DMat4, dst: &mut Mesh) {
 
 /// Makes `dst`'s triangles and UVs equal to `src`'s, copying only when they differ.
 ///
-/// The comparison is bitwise and branch-free over the whole buffers (it runs every frame
-/// on an unchanged topology, so it is written to vectorize rather than to exit early).
+/// The comparison is bitwise, one `memcmp` per buffer (it runs every frame on an unchanged
+/// topology: for 40,000 triangles it costs a few microseconds).
 pub fn copy_topology(src: &Mesh, dst: &mut Mesh) {
-    let same_triangles = dst.triangles.len() == src.triangles.len()
-        && dst
-            .triangles
-            .iter()
-            .zip(&src.triangles)
-            .fold(0u32, |acc, (a, b)| acc | (a[0] ^ b[0]) | (a[1] ^ b[1]) | (a[2] ^ b[2]))
-            == 0;
-    if !same_triangles {
+    fn bytes<T: bytemuck::Pod>(v: &[T]) -> &[u8] {
+        bytemuck::cast_slice(v)
+    }
+    if bytes(&dst.triangles) != bytes(&src.triangles) {
         dst.triangles.clone_from(&src.triangles);
     }
-    let same_uvs = dst.uvs.len() == src.uvs.len()
-        && dst.uvs.iter().zip(&src.uvs).fold(0u32, |acc, (a, b)| {
-            acc | (a.x.to_bits() ^ b.x.to_bits()) | (a.y.to_bits() ^ b.y.to_bits())
-        }) == 0;
-    if !same_uvs {
+    if bytes(&dst.uvs) != bytes(&src.uvs) {
         dst.uvs.clone_from(&src.uvs);
     }
 }
@@ -316,4 +308,37 @@ pub fn register(registry: &mut Registry) -> Result<(), SpecError> {
     }
     registry.register(MeshNode::new()?)?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec2;
+
+    #[test]
+    fn copy_topology_copies_exactly_when_the_bits_differ() {
+        let src = Mesh {
+            triangles: vec![[0, 1, 2], [2, 1, 3]],
+            uvs: vec![Vec2::ZERO, Vec2::X, Vec2::Y, Vec2::ONE],
+            ..Default::default()
+        };
+        let mut dst = Mesh::default();
+        copy_topology(&src, &mut dst);
+        assert_eq!((&dst.triangles, &dst.uvs), (&src.triangles, &src.uvs));
+        // Unchanged: the buffers are kept (no reallocation).
+        let (t, u) = (dst.triangles.as_ptr(), dst.uvs.as_ptr());
+        copy_topology(&src, &mut dst);
+        assert_eq!((dst.triangles.as_ptr(), dst.uvs.as_ptr()), (t, u));
+        // A different index, a -0.0 where src has 0.0 (equal as floats, not as bits), a
+        // different length: each is copied over.
+        dst.triangles[1][2] = 7;
+        dst.uvs[0].x = -0.0;
+        copy_topology(&src, &mut dst);
+        assert_eq!(dst.triangles, src.triangles);
+        assert_eq!(dst.uvs[0].x.to_bits(), 0.0f32.to_bits());
+        dst.uvs.pop();
+        dst.triangles.push([0, 0, 0]);
+        copy_topology(&src, &mut dst);
+        assert_eq!((&dst.triangles, &dst.uvs), (&src.triangles, &src.uvs));
+    }
 }
