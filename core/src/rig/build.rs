@@ -8,7 +8,7 @@
 //! load returns the errors and no graph.
 
 use std::collections::{HashMap, HashSet};
-use std::path::{Component, Path, PathBuf};
+use std::path::{Path, PathBuf};
 use std::rc::Rc;
 use std::sync::Arc;
 
@@ -16,6 +16,7 @@ use super::diag::{Diagnostic, Diagnostics, Span};
 use super::doc::{read_document, Body, ConnDecl, NodeDecl, RigDocument, SetDecl, UseDecl};
 use super::mirror::{mirror_value, MirrorContext};
 use super::parse::{parse, Ast, Node};
+use super::source::{normalize, FsSource, RigSource};
 use super::typed::{example, read_value};
 use crate::error::nearest;
 use crate::graph::Graph;
@@ -24,25 +25,6 @@ use crate::path::{parse_plug_path, resolve_attr, AttrLookupError};
 use crate::registry::Registry;
 use crate::spec::{AttrId, AttrSpec, MirrorRole, NodeSpec};
 use crate::value::{AttrType, Value};
-
-/// Where rig and component files come from (the file system, or memory for
-/// tests and fuzzing).
-pub trait RigSource {
-    /// The text of the file at `path`.
-    fn read(&self, path: &Path) -> std::io::Result<String>;
-
-    /// Loads the value of an attribute of type `ty` written in a rig file as a file
-    /// reference, `File("body.obj")`; `path` is already resolved against the directory of
-    /// the rig file that wrote it. The core knows no geometry format, so the default
-    /// refuses; the `sinew` facade's source (`sinew::io::mesh_file::MeshFileSource`)
-    /// loads Wavefront OBJ and glTF meshes.
-    fn load_value(&self, path: &Path, ty: AttrType) -> Result<Value, String> {
-        Err(format!(
-            "cannot load a {ty} from {}: mesh files need the sinew facade (load the rig with sinew::io::mesh_file::load_rig)",
-            path.display()
-        ))
-    }
-}
 
 /// The path of a `File("path")` value, if `n` is one.
 fn file_reference(n: &Node) -> Option<&str> {
@@ -59,56 +41,6 @@ fn file_reference(n: &Node) -> Option<&str> {
         },
         _ => None,
     }
-}
-
-/// Reads files from disk (regular files up to 64 MiB).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct FsSource;
-
-impl RigSource for FsSource {
-    fn read(&self, path: &Path) -> std::io::Result<String> {
-        let meta = std::fs::metadata(path)?;
-        if !meta.is_file() {
-            return Err(std::io::Error::other("not a regular file"));
-        }
-        if meta.len() > 64 << 20 {
-            return Err(std::io::Error::other("file is larger than 64 MiB"));
-        }
-        std::fs::read_to_string(path)
-    }
-}
-
-/// Files held in memory, by path.
-#[derive(Clone, Debug, Default)]
-pub struct MemSource {
-    /// The files.
-    pub files: HashMap<PathBuf, String>,
-}
-
-impl RigSource for MemSource {
-    fn read(&self, path: &Path) -> std::io::Result<String> {
-        self.files
-            .get(path)
-            .cloned()
-            .ok_or_else(|| std::io::Error::new(std::io::ErrorKind::NotFound, "no such file"))
-    }
-}
-
-/// Lexically normalizes a path (`a/./b/../c` → `a/c`) without touching the disk.
-pub fn normalize(p: &Path) -> PathBuf {
-    let mut out = PathBuf::new();
-    for c in p.components() {
-        match c {
-            Component::CurDir => {}
-            Component::ParentDir => {
-                if !out.pop() {
-                    out.push("..");
-                }
-            }
-            c => out.push(c.as_os_str()),
-        }
-    }
-    out
 }
 
 /// A node created by a top-level `Use`, as the use created it.

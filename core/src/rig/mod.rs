@@ -2,10 +2,12 @@
 //! canonical save. The format is documented in `docs/rig-format.md`.
 //!
 //! - [`parse`]: a small RON parser keeping line/column for every value.
-//! - [`doc`]: the document model (what a file says) and canonical printing.
+//! - [`doc`]: the document model (what a file says) and canonical printing
+//!   (`doc_print`).
 //! - [`typed`]: attribute values read and written by their declared type.
 //! - [`mirror`]: Maya mirrorJoint *behavior* mirroring of authored values.
-//! - `build`: component expansion and graph building, collecting all errors.
+//! - `build`: component expansion and graph building, collecting all errors;
+//!   `source`: where files come from ([`RigSource`]).
 //! - `save`: graph to canonical text, and [`graph_eq`] for round-trip tests.
 //! - [`diag`]: `file:line:col: error: message` diagnostics with hints.
 //!
@@ -17,10 +19,12 @@ mod assemble;
 mod build;
 pub mod diag;
 pub mod doc;
+mod doc_print;
 mod export;
 pub mod mirror;
 pub mod parse;
 mod save;
+mod source;
 pub mod typed;
 
 #[cfg(test)]
@@ -32,12 +36,13 @@ use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-pub use build::{load_rig, load_rig_str, load_rig_with, normalize, FsSource, LoadedRig, MemSource, RigSource};
+pub use build::{load_rig, load_rig_str, load_rig_with, LoadedRig};
 pub use diag::{Diagnostic, Diagnostics, Span};
 pub use doc::RigDocument;
 pub use export::{to_dot, to_json};
 pub use mirror::Plane;
 pub use save::{graph_eq, save_rig};
+pub use source::{normalize, FsSource, MemSource, RigSource};
 
 use crate::registry::Registry;
 
