@@ -191,27 +191,28 @@ impl Common {
         })
     }
 
-    /// Computes whichever group `ctx` asks for; `local` builds the local
-    /// matrix (only called when a group that depends on it is computed).
+    /// Computes the group `ctx` asks for; `local` builds the local matrix (only called when
+    /// that group is computed).
+    ///
+    /// A call computes exactly one compute group (a context names one), and the five outputs
+    /// are in five different groups, so the first output `ctx` wants is the only one: the
+    /// groups are tried in order of frequency (a frame mostly updates world matrices, then
+    /// local ones) and the search stops there.
     fn compute(&self, ctx: &mut ComputeContext<'_>, local: impl FnOnce(&ComputeContext<'_>) -> DMat4) {
-        if ctx.wants(self.parent_inverse_matrix) {
-            let pi = self.with_parent_world(ctx, |pm| inverse_or_identity(*pm));
-            ctx.set(self.parent_inverse_matrix, pi);
-        }
-        if ctx.wants(self.matrix) {
-            let m = local(ctx);
-            ctx.set(self.matrix, m);
-        }
-        if ctx.wants(self.inverse_matrix) {
-            let m = ctx.get_output(self.matrix);
-            ctx.set(self.inverse_matrix, inverse_or_identity(m));
-        }
         if ctx.wants(self.world_matrix) {
             // By reference: three matrices are read and one written on every frame.
             let w = self.with_parent_world(ctx, |pm| ctx.with_output_ref(self.matrix, |m| mul_affine(pm, m)));
             ctx.set(self.world_matrix, w);
-        }
-        if ctx.wants(self.world_inverse_matrix) {
+        } else if ctx.wants(self.matrix) {
+            let m = local(ctx);
+            ctx.set(self.matrix, m);
+        } else if ctx.wants(self.parent_inverse_matrix) {
+            let pi = self.with_parent_world(ctx, |pm| inverse_or_identity(*pm));
+            ctx.set(self.parent_inverse_matrix, pi);
+        } else if ctx.wants(self.inverse_matrix) {
+            let m = ctx.get_output(self.matrix);
+            ctx.set(self.inverse_matrix, inverse_or_identity(m));
+        } else if ctx.wants(self.world_inverse_matrix) {
             let w = ctx.get_output(self.world_matrix);
             ctx.set(self.world_inverse_matrix, inverse_or_identity(w));
         }
