@@ -294,6 +294,25 @@ fn alternate(e: DVec3, order: RotateOrder) -> DVec3 {
     out
 }
 
+/// `x.round()` (halfway cases away from zero, the sign of `x` kept on a zero result), the same
+/// bits for every `x`, without a call into libm for `|x| < 2⁵²` (baseline x86-64 has no
+/// rounding instruction, so `round` is a library call).
+///
+/// Below 2⁵² the conversion to an integer truncates exactly, `|x| - trunc` is exact, and
+/// comparing that fraction with ½ avoids the classic `x + 0.5` error (it rounds
+/// 0.49999999999999994 up).
+#[inline]
+pub(crate) fn round_half_away(x: f64) -> f64 {
+    let a = x.abs();
+    if a < 4_503_599_627_370_496.0 {
+        let t = a as u64 as f64;
+        let r = if a - t >= 0.5 { t + 1.0 } else { t };
+        r.copysign(x)
+    } else {
+        x.round()
+    }
+}
+
 /// `a` shifted by a multiple of 2π to be as close as possible to `target`.
 fn wrap_near(a: f64, target: f64) -> f64 {
     let d = target - a;
@@ -302,7 +321,7 @@ fn wrap_near(a: f64, target: f64) -> f64 {
         // formula below adds that signed zero, and so does this (same bits, no `round`).
         return a + 0.0f64.copysign(d);
     }
-    let shifted = a + TAU * ((target - a) / TAU).round();
+    let shifted = a + TAU * round_half_away(d / TAU);
     if shifted.is_finite() {
         shifted
     } else {
@@ -589,7 +608,45 @@ mod tests {
         }
     }
 
+    /// `round_half_away` gives `f64::round`'s bits: halfway cases, the values next to them,
+    /// signed zeros, the 2⁵² boundary, huge values and non-finite ones.
+    #[test]
+    fn round_half_away_matches_round_at_edges() {
+        let below_half = f64::from_bits(0.5f64.to_bits() - 1);
+        let two52 = 4_503_599_627_370_496.0;
+        let mut cases = vec![
+            0.0,
+            -0.0,
+            0.5,
+            below_half,
+            f64::from_bits(0.5f64.to_bits() + 1),
+            1.5,
+            2.5,
+            f64::from_bits(2.5f64.to_bits() - 1),
+            two52,
+            f64::from_bits(two52.to_bits() - 1),
+            two52 - 0.5,
+            two52 + 1.0,
+            1e300,
+            f64::MIN_POSITIVE,
+            f64::from_bits(1),
+            f64::INFINITY,
+            f64::NAN,
+            f64::MAX,
+        ];
+        cases.extend(cases.clone().iter().map(|x| -x));
+        for x in cases {
+            assert_eq!(round_half_away(x).to_bits(), x.round().to_bits(), "{x:e}");
+        }
+    }
+
     proptest! {
+        #[test]
+        fn round_half_away_matches_round(x in any::<f64>(), small in -10.0f64..10.0) {
+            prop_assert_eq!(round_half_away(x).to_bits(), x.round().to_bits());
+            prop_assert_eq!(round_half_away(small).to_bits(), small.round().to_bits());
+        }
+
         #[test]
         fn wrap_near_shortcut_matches_general_formula(a in -20.0f64..20.0, d in -3.5f64..3.5) {
             let t = a + d;
