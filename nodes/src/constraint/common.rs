@@ -13,7 +13,7 @@ use sinew_core::{AttrId, ComputeContext, Input, MultiInput, SpecBuilder, Unit};
 use crate::ik::EulerMemo;
 use crate::transform::euler::sanitize_quat;
 use crate::transform::math::{
-    euler_to_quat, is_identity_bits, orthonormalize, quat_blend_weighted, rotate_for_orientation_quats, slerp_shortest,
+    euler_to_quat, is_identity_bits, matrix_rotation_quat, orthonormalize, quat_blend_weighted, rotate_for_orientation_quats, slerp_shortest,
     to_translate_rotate_scale, RotateOrder,
 };
 
@@ -188,7 +188,7 @@ pub(crate) fn blend_rotation(ts: &[Target], interp: i64) -> Option<DQuat> {
     total_weight(ts)?;
     let mut items = SmallList::<(DQuat, f64), 4>::new();
     for t in ts {
-        items.push((to_translate_rotate_scale(t.world).1, t.weight));
+        items.push((matrix_rotation_quat(&t.world), t.weight));
     }
     let (first, rest) = items.split_first()?;
     let q = match interp {

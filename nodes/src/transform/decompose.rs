@@ -48,6 +48,19 @@ impl Decomposed {
 /// perpendicular; then `R * SH * S` reproduces `a` exactly only if that column
 /// was zero (e.g. a node scaled to 0 to hide it).
 fn split_rotation_scale_shear(a: DMat3) -> (DMat3, DVec3, DVec3) {
+    split::<true>(a)
+}
+
+/// The rotation of [`split_rotation_scale_shear`] alone (the same bits), without computing
+/// the scale and shear that rotation-only callers would discard.
+fn rotation_part(a: DMat3) -> DMat3 {
+    split::<false>(a).0
+}
+
+/// [`split_rotation_scale_shear`]; with `FULL` false the scale and shear are not computed
+/// (returned as zero), which changes nothing in the rotation.
+#[inline(always)]
+fn split<const FULL: bool>(a: DMat3) -> (DMat3, DVec3, DVec3) {
     let cols = [a.x_axis, a.y_axis, a.z_axis];
     let norm = cols.iter().map(|c| c.abs().max_element()).fold(0.0, f64::max);
     if !norm.is_finite() || norm == 0.0 {
@@ -73,6 +86,12 @@ fn split_rotation_scale_shear(a: DMat3) -> (DMat3, DVec3, DVec3) {
     }
     let basis = complete_basis(r);
     let mut rot = DMat3::from_cols(basis[0], basis[1], basis[2]);
+    if !FULL {
+        if r.iter().all(Option::is_some) && rot.determinant() < 0.0 {
+            rot.z_axis = -rot.z_axis;
+        }
+        return (rot, DVec3::ZERO, DVec3::ZERO);
+    }
     // Missing (zero or dependent) axes get scale 0.
     let axis_scale = |k: usize| {
         if r[k].is_some() {
@@ -143,7 +162,16 @@ pub fn orthonormalize(m: DMat3) -> DMat3 {
     if !m.is_finite() {
         return DMat3::IDENTITY;
     }
-    split_rotation_scale_shear(m).0
+    rotation_part(m)
+}
+
+/// The rotation of [`decompose`] as a quaternion: `to_translate_rotate_scale(m).1`, the same
+/// bits, without the translation, scale and shear (identity for a non-finite matrix).
+pub fn matrix_rotation_quat(m: &DMat4) -> DQuat {
+    if !m.is_finite() {
+        return Decomposed::IDENTITY.quat;
+    }
+    sanitize_quat(DQuat::from_mat3(&rotation_part(DMat3::from_mat4(*m))))
 }
 
 /// Decomposes an affine matrix into the [`compose`] inputs, rotation in
@@ -356,7 +384,57 @@ mod tests {
         ));
     }
 
+    /// `matrix_rotation_quat` and `rotation_part` (behind `orthonormalize`) give the bits of
+    /// the full split on the cases with special paths: zero, dependent and non-finite columns,
+    /// mirrors, the identity, a huge and a tiny scale.
+    #[test]
+    fn rotation_only_paths_match_the_full_split_on_edge_cases() {
+        let x = DVec3::new(1.0, 2.0, 0.5);
+        let mats = [
+            DMat3::IDENTITY,
+            DMat3::ZERO,
+            DMat3::from_diagonal(DVec3::new(-1.0, 1.0, 1.0)),
+            DMat3::from_diagonal(DVec3::new(1.0, 0.0, 1.0)),
+            DMat3::from_cols(x, x * 2.0, DVec3::Z),
+            DMat3::from_cols(x, DVec3::ZERO, DVec3::ZERO),
+            DMat3::from_cols(DVec3::ZERO, DVec3::ZERO, x),
+            DMat3::from_cols(DVec3::ZERO, x, DVec3::ZERO),
+            DMat3::from_diagonal(DVec3::splat(1e300)),
+            DMat3::from_diagonal(DVec3::splat(1e-300)),
+            DMat3::from_cols(x, DVec3::new(f64::NAN, 0.0, 0.0), DVec3::Z),
+            DMat3::from_cols(DVec3::new(f64::INFINITY, 0.0, 0.0), DVec3::Y, DVec3::Z),
+            DMat3::from_cols(DVec3::new(-0.0, 1.0, 0.0), DVec3::new(-1.0, -0.0, 0.0), DVec3::new(0.0, 0.0, -1.0)),
+        ];
+        for m in mats {
+            check_rotation_only(m, DVec3::new(3.0, -4.0, 5.0));
+        }
+    }
+
+    /// The rotation-only functions against the full split, bit for bit.
+    fn check_rotation_only(m: DMat3, t: DVec3) {
+        let full = |m: DMat3| if m.is_finite() { split_rotation_scale_shear(m).0 } else { DMat3::IDENTITY };
+        let bits3 = |m: DMat3| m.to_cols_array().map(f64::to_bits);
+        assert_eq!(bits3(orthonormalize(m)), bits3(full(m)), "{m}");
+        let m4 = DMat4::from_mat3_translation(m, t);
+        let (_, q, _) = to_translate_rotate_scale(m4);
+        assert_eq!(
+            matrix_rotation_quat(&m4).to_array().map(f64::to_bits),
+            q.to_array().map(f64::to_bits),
+            "{m}"
+        );
+    }
+
     proptest! {
+        /// The rotation-only paths give the full split's bits for any matrix.
+        #[test]
+        fn rotation_only_paths_match_the_full_split(
+            a in vec3(-10.0, 10.0), b in vec3(-10.0, 10.0), c in vec3(-10.0, 10.0),
+            t in vec3(-10.0, 10.0), scale in prop_oneof![Just(1.0), Just(1e-200), Just(1e200), -3.0f64..3.0],
+        ) {
+            check_rotation_only(DMat3::from_cols(a, b, c) * scale, t);
+            check_rotation_only(DMat3::from_cols(a, a * scale, c), t);
+        }
+
         /// decompose(compose(x)) == x. Rotation angles are drawn from the
         /// principal ranges (first/last in (-π, π), middle in (-π/2, π/2))
         /// where the euler triple is unique; scale is positive (a mirror is

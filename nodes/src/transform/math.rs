@@ -50,7 +50,7 @@ use glam::{DMat3, DMat4, DQuat, DVec3};
 
 pub use super::decompose::{
     blend_matrices, compose, compose_quat, decompose, decompose_quat, orthonormalize, remove_scale,
-    to_translate_rotate_scale, Decomposed,
+    matrix_rotation_quat, to_translate_rotate_scale, Decomposed,
 };
 pub use super::euler::{
     euler_to_mat3, euler_to_mat4, euler_to_quat, mat3_to_euler, mat3_to_euler_closest, quat_to_euler,
