@@ -488,7 +488,7 @@ pub(super) fn aim(from: DVec3, to: DVec3, fallback_axis: DVec3) -> DQuat {
     let axis = (axis - a * a.dot(axis))
         .try_normalize()
         .unwrap_or_else(|| a.any_orthonormal_vector());
-    DQuat::from_axis_angle(axis, s.atan2(d))
+    DQuat::from_axis_angle(axis, crate::transform::trig::atan2(s, d))
 }
 
 /// Rotation taking the orthonormal frame (`u0`, `w0`) onto (`u1`, `w1`) (both pairs unit, perpendicular).

@@ -15,6 +15,8 @@
 
 use glam::{DMat3, DMat4, DQuat, DVec3};
 use std::f64::consts::{PI, TAU};
+
+use super::trig::atan2;
 use std::fmt;
 
 /// Below this `cos(middle angle)` the extraction treats the rotation as gimbal
@@ -247,10 +249,10 @@ fn extract_axes<const I: usize, const J: usize, const K: usize>(m: &DMat3, p: f6
     // Entries of a rotation matrix are at most 1 in magnitude: a plain square root is exact
     // enough (no overflow to guard against) and much cheaper than `hypot`.
     let cos_b = (m_ii * m_ii + m_ji * m_ji).sqrt();
-    let b = (-p * m_ki).atan2(cos_b);
+    let b = atan2(-p * m_ki, cos_b);
     // cos/sin of c and b straight from the entries they were read from (no trigonometry).
     let (c, cc, sc) = if cos_b > GIMBAL_EPS {
-        ((p * m_ji).atan2(m_ii), m_ii / cos_b, p * m_ji / cos_b)
+        (atan2(p * m_ji, m_ii), m_ii / cos_b, p * m_ji / cos_b)
     } else {
         let (s, c) = gimbal_last.sin_cos();
         (gimbal_last, c, s)
@@ -264,7 +266,7 @@ fn extract_axes<const I: usize, const J: usize, const K: usize>(m: &DMat3, p: f6
     // Column j of N = Rj(-b)·Rk(-c)·M; a is read from its entries j and k.
     let col_j = m.col(J);
     let n_j = rotate_about::<J>(rotate_about::<K>(col_j, cc, -sc), cb, -sb);
-    let a = (p * n_j[K]).atan2(n_j[J]);
+    let a = atan2(p * n_j[K], n_j[J]);
     let mut out = DVec3::ZERO;
     out[I] = a;
     out[J] = b;

@@ -1,6 +1,6 @@
 //! Transform and joint nodes and the matrix utilities built on the same math.
 //!
-//! The math modules ([`math`], [`euler`], [`decompose`], [`orient`]) are pure
+//! The math modules ([`math`], [`euler`], [`decompose`], [`orient`], [`trig`]) are pure
 //! functions in radians; the node plugins convert the graph's degrees. The
 //! plugins: [`dag_nodes`] (`transform`, `joint`), [`matrix_nodes`]
 //! (`decomposeMatrix`, `composeMatrix`, `multMatrix`, `inverseMatrix`,
@@ -15,6 +15,7 @@ pub mod math;
 pub mod matrix_nodes;
 pub mod orient;
 pub mod time_node;
+pub mod trig;
 
 /// Registers this family's node types.
 pub fn register(registry: &mut sinew_core::Registry) -> Result<(), sinew_core::SpecError> {
