@@ -139,13 +139,15 @@ pub(crate) fn sanitize_quat(q: DQuat) -> DQuat {
     DQuat::from_vec4(v / v.length())
 }
 
-/// Rotation matrix about coordinate axis `axis` (0 = X, 1 = Y, 2 = Z).
+/// Rotation matrix about coordinate axis `axis` (0 = X, 1 = Y, 2 = Z): glam's
+/// `DMat3::from_rotation_x/y/z` with the sine and cosine from [`super::trig::sin_cos`].
 #[inline(always)]
 fn axis_mat3(axis: usize, angle: f64) -> DMat3 {
+    let (s, c) = super::trig::sin_cos(angle);
     match axis {
-        0 => DMat3::from_rotation_x(angle),
-        1 => DMat3::from_rotation_y(angle),
-        _ => DMat3::from_rotation_z(angle),
+        0 => DMat3::from_cols(DVec3::X, DVec3::new(0.0, c, s), DVec3::new(0.0, -s, c)),
+        1 => DMat3::from_cols(DVec3::new(c, 0.0, -s), DVec3::Y, DVec3::new(s, 0.0, c)),
+        _ => DMat3::from_cols(DVec3::new(c, s, 0.0), DVec3::new(-s, c, 0.0), DVec3::Z),
     }
 }
 

@@ -1,5 +1,7 @@
-//! `atan2` without a call into the C math library, for the hot angle extractions (Euler angles
-//! from rotations, the IK's aim rotations).
+//! `atan2` and `sin_cos` without a call into the C math library, for the hot angle
+//! conversions (Euler angles to and from rotations, the IK's aim rotations).
+//!
+//! # atan2
 //!
 //! The algorithm and constants are fdlibm's `e_atan2.c`/`s_atan.c` (Sun Microsystems, 1993,
 //! "Permission to use, copy, modify, and distribute this software is freely granted, provided
@@ -10,6 +12,14 @@
 //! last bit. Zero, infinite, NaN and subnormal arguments go to `f64::atan2` (the C library),
 //! so every special case is exactly what it was. About half the instructions of glibc's
 //! `atan2` on finite arguments, and no call.
+
+//!
+//! # sin_cos
+//! fdlibm's `k_sin.c`, `k_cos.c` and the medium case of `e_rem_pio2.c` (same origin and
+//! notice), as musl's `sincos` combines them: `|x| ≤ π/4` directly, otherwise `x` reduced by
+//! the nearest multiple of π/2 (π/2 in three parts, up to 151 bits, so no cancellation is
+//! lost) and the quadrant picks signs and order. Within one ulp, as glibc's; arguments beyond
+//! 2²⁰·π/2 and non-finite ones go to `f64::sin_cos`.
 
 use std::f64::consts::{FRAC_PI_2, PI};
 
@@ -114,6 +124,123 @@ pub fn atan2(y: f64, x: f64) -> f64 {
     }
 }
 
+/// fdlibm's sine kernel: `sin(x + y)` for `|x + y| ≤ π/4`, `y` the tail of a reduced argument.
+#[inline(always)]
+fn k_sin(x: f64, y: f64, with_tail: bool) -> f64 {
+    const S: [f64; 6] = [
+        -1.666_666_666_666_663_243_48e-01,
+        8.333_333_333_322_489_461_24e-03,
+        -1.984_126_982_985_794_931_34e-04,
+        2.755_731_370_707_006_767_89e-06,
+        -2.505_076_025_340_686_341_95e-08,
+        1.589_690_995_211_550_102_21e-10,
+    ];
+    let z = x * x;
+    let w = z * z;
+    let r = S[1] + z * (S[2] + z * S[3]) + z * w * (S[4] + z * S[5]);
+    let v = z * x;
+    if with_tail {
+        x - ((z * (0.5 * y - v * r) - y) - v * S[0])
+    } else {
+        x + v * (S[0] + z * r)
+    }
+}
+
+/// fdlibm's cosine kernel: `cos(x + y)` for `|x + y| ≤ π/4`.
+#[inline(always)]
+fn k_cos(x: f64, y: f64) -> f64 {
+    const C: [f64; 6] = [
+        4.166_666_666_666_660_190_37e-02,
+        -1.388_888_888_887_410_957_49e-03,
+        2.480_158_728_947_672_941_78e-05,
+        -2.755_731_435_139_066_330_35e-07,
+        2.087_572_321_298_174_827_90e-09,
+        -1.135_964_755_778_819_482_65e-11,
+    ];
+    let z = x * x;
+    let w = z * z;
+    let r = z * (C[0] + z * (C[1] + z * C[2])) + w * w * (C[3] + z * (C[4] + z * C[5]));
+    let hz = 0.5 * z;
+    let w = 1.0 - hz;
+    w + (((1.0 - w) - hz) + (z * r - x * y))
+}
+
+/// `x` minus the nearest multiple `n·π/2`, as a head and a tail, and `n` (fdlibm's medium
+/// case: valid below 2²⁰·π/2, exponent field of `x` given).
+#[inline(always)]
+fn rem_pio2_medium(x: f64, ex: i64) -> (i64, f64, f64) {
+    const TOINT: f64 = 6_755_399_441_055_744.0; // 1.5 · 2⁵²
+    const PIO4: f64 = std::f64::consts::FRAC_PI_4;
+    const INVPIO2: f64 = 6.366_197_723_675_813_824_33e-01;
+    const PIO2_1: f64 = 1.570_796_326_734_125_614_17e+00;
+    const PIO2_1T: f64 = 6.077_100_506_506_192_249_32e-11;
+    const PIO2_2: f64 = 6.077_100_506_303_965_976_60e-11;
+    const PIO2_2T: f64 = 2.022_266_248_795_950_631_54e-21;
+    const PIO2_3: f64 = 2.022_266_248_711_166_455_80e-21;
+    const PIO2_3T: f64 = 8.478_427_660_368_899_569_97e-32;
+    let mut f = x * INVPIO2 + TOINT - TOINT;
+    let mut n = f as i64;
+    let mut r = x - f * PIO2_1;
+    let mut w = f * PIO2_1T;
+    if r - w < -PIO4 {
+        n -= 1;
+        f -= 1.0;
+        r = x - f * PIO2_1;
+        w = f * PIO2_1T;
+    } else if r - w > PIO4 {
+        n += 1;
+        f += 1.0;
+        r = x - f * PIO2_1;
+        w = f * PIO2_1T;
+    }
+    let mut y0 = r - w;
+    let exp = |v: f64| ((v.to_bits() >> 52) & 0x7ff) as i64;
+    if ex - exp(y0) > 16 {
+        // second round, good to 118 bits
+        let t = r;
+        w = f * PIO2_2;
+        r = t - w;
+        w = f * PIO2_2T - ((t - r) - w);
+        y0 = r - w;
+        if ex - exp(y0) > 49 {
+            // third round, good to 151 bits
+            let t = r;
+            w = f * PIO2_3;
+            r = t - w;
+            w = f * PIO2_3T - ((t - r) - w);
+            y0 = r - w;
+        }
+    }
+    (n, y0, (r - y0) - w)
+}
+
+/// `(sin x, cos x)`, as [`f64::sin_cos`] within one ulp; arguments beyond 2²⁰·π/2 and
+/// non-finite ones give exactly what `f64::sin_cos` gives (it is called for them).
+#[inline]
+pub fn sin_cos(x: f64) -> (f64, f64) {
+    let bits = x.to_bits();
+    let ix = (bits >> 32) & 0x7fff_ffff;
+    if ix <= 0x3fe9_21fb {
+        // |x| ≲ π/4
+        if ix < 0x3e46_a09e {
+            // |x| < 2⁻²⁷·√2: sin x rounds to x, cos x to 1
+            return (x, 1.0);
+        }
+        return (k_sin(x, 0.0, false), k_cos(x, 0.0));
+    }
+    if ix >= 0x4139_21fb {
+        return x.sin_cos();
+    }
+    let (n, y0, y1) = rem_pio2_medium(x, (ix >> 20) as i64);
+    let (s, c) = (k_sin(y0, y1, true), k_cos(y0, y1));
+    match n & 3 {
+        0 => (s, c),
+        1 => (c, -s),
+        2 => (-s, -c),
+        _ => (-c, s),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -194,7 +321,78 @@ mod tests {
         }
     }
 
+    /// Within one ulp of the library's sine and cosine (an absolute 2⁻¹⁰⁷ near the zeros,
+    /// where one ulp of the result is smaller than the argument's own rounding).
+    fn check_sin_cos(x: f64) {
+        let (s, c) = sin_cos(x);
+        let (s0, c0) = x.sin_cos();
+        for (a, b, what) in [(s, s0, "sin"), (c, c0, "cos")] {
+            if b.is_nan() {
+                assert!(a.is_nan(), "{what}({x:e})");
+            } else {
+                assert!(ulps(a, b) <= 1 || (a - b).abs() < 2f64.powi(-107), "{what}({x:e}): {a:e} vs {b:e}");
+            }
+        }
+    }
+
+    /// Zeros, tiny, huge and non-finite arguments, the π/4 and 2⁻²⁷ thresholds, multiples of
+    /// π/2 up to the medium range's end (where the reduction's second and third rounds run).
+    #[test]
+    fn sin_cos_edge_cases() {
+        let mut xs = vec![
+            0.0,
+            -0.0,
+            f64::from_bits(1),
+            f64::MIN_POSITIVE,
+            1e-9,
+            7.450_580_596_923_828_125e-9,
+            0.785_398_163_397_448_2,
+            std::f64::consts::FRAC_PI_4,
+            1.0,
+            FRAC_PI_2,
+            PI,
+            3.0 * FRAC_PI_2,
+            2.0 * PI,
+            100.0,
+            1e5,
+            1.6e6,
+            1.7e6,
+            1e300,
+            f64::MAX,
+            f64::INFINITY,
+            f64::NAN,
+        ];
+        for k in 1..=2000 {
+            xs.push(k as f64 * FRAC_PI_2);
+            xs.push((k * 517) as f64 * FRAC_PI_2);
+        }
+        for t in [0.785_398_163_397_448_2f64, 7.450_580_596_923_828_125e-9, 1.647_099_3e6] {
+            for k in -3i64..=3 {
+                xs.push(f64::from_bits((t.to_bits() as i64 + k) as u64));
+            }
+        }
+        for x in xs.clone() {
+            check_sin_cos(x);
+            check_sin_cos(-x);
+        }
+        // Exactly the library's where it is used: beyond the medium range and non-finite.
+        for x in [1e300, f64::INFINITY, f64::NAN, 1.7e6] {
+            let ((s, c), (s0, c0)) = (sin_cos(x), x.sin_cos());
+            assert_eq!((s.to_bits(), c.to_bits()), (s0.to_bits(), c0.to_bits()), "{x:e}");
+        }
+        assert_eq!(sin_cos(0.0), (0.0, 1.0));
+        assert_eq!(sin_cos(-0.0).0.to_bits(), (-0.0f64).to_bits());
+    }
+
     proptest! {
+        /// Angles a rig meets, and any argument at all: within one ulp of the library.
+        #[test]
+        fn sin_cos_within_one_ulp_of_the_library(a in -10.0f64..10.0, b in -1e4f64..1e4, x in any::<f64>()) {
+            check_sin_cos(a);
+            check_sin_cos(b);
+            check_sin_cos(x);
+        }
+
         /// Any finite arguments: within one ulp of the library.
         #[test]
         fn within_one_ulp_of_the_library(y in any::<f64>(), x in any::<f64>(), a in -10.0f64..10.0, b in -10.0f64..10.0) {
