@@ -59,7 +59,8 @@
 //!   targets stay within 180° of target 0).
 //!
 //! # Files
-//! `common` (shared inputs and blends), `parent` (parentConstraint,
+//! `common` (shared inputs and blends), `rotation_path` (orient and parent
+//! rotations on matrices), `parent` (parentConstraint,
 //! pointConstraint), `orient` (orientConstraint, aimConstraint), `scale`
 //! (scaleConstraint, poleVectorConstraint), `helpers` ([`constrain`],
 //! [`maintain_offset`]).
@@ -68,6 +69,7 @@ mod common;
 mod helpers;
 mod orient;
 mod parent;
+mod rotation_path;
 mod scale;
 
 #[cfg(test)]

@@ -5,9 +5,10 @@ use glam::{DMat4, DQuat, DVec3};
 use sinew_core::{ComputeContext, ComputeError, Input, NodeSpec, NodeType, Output, SpecError, Unit};
 
 use super::common::{
-    blend_rotation, declare_parent_inverse, local_rotation, offset_quat, parent_world, weighted_position, Channel,
-    ChildPivot, ChildRotation, Targets, INTERP_TYPES,
+    declare_parent_inverse, local_rotation, offset_quat, parent_world, weighted_position, Channel, ChildPivot,
+    ChildRotation, Targets, INTERP_TYPES,
 };
+use super::rotation_path::{blend_rotation_mat3, local_rotation_mat3};
 use crate::transform::math::aim_quat;
 
 /// Maya's `worldUpType` choices, in enum order (index 3, `vector`, is the
@@ -81,9 +82,9 @@ impl NodeType for OrientConstraint {
         let ts = self.targets.read(ctx);
         let pim = ctx.get(self.parent_inverse);
         let rest = self.rotate.rest(ctx);
-        let off = offset_quat(ctx.get(self.offset));
-        let r = blend_rotation(&ts, ctx.get(self.interp))
-            .map(|q| self.rotation.rotate_deg(ctx, local_rotation(pim, q * off), rest));
+        let off = ctx.get(self.offset);
+        let r = blend_rotation_mat3(&ts, ctx.get(self.interp))
+            .map(|world| self.rotation.rotate_deg_mat3(ctx, &local_rotation_mat3(&pim, world, off), rest));
         let r = self.rotate.apply(ctx, r);
         ctx.set(self.out_rotate, r);
         Ok(())

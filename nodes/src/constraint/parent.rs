@@ -5,9 +5,9 @@ use glam::{DMat4, DVec3};
 use sinew_core::{ComputeContext, ComputeError, Input, NodeSpec, NodeType, Output, SpecError, Unit};
 
 use super::common::{
-    blend_rotation, declare_parent_inverse, ids, local_rotation, weighted_position, Channel, ChildPivot, ChildRotation,
-    Targets, INTERP_TYPES,
+    declare_parent_inverse, ids, weighted_position, Channel, ChildPivot, ChildRotation, Targets, INTERP_TYPES,
 };
+use super::rotation_path::{blend_rotation_mat3, local_rotation_mat3};
 
 /// `parentConstraint`: moves and rotates the constrained node as if it were a
 /// child of its targets.
@@ -104,8 +104,10 @@ impl NodeType for ParentConstraint {
         }
         if ctx.wants(self.out_rotate) {
             let rest = self.rotate.rest(ctx);
-            let r = blend_rotation(&ts, ctx.get(self.interp))
-                .map(|q| self.rotation.rotate_deg(ctx, local_rotation(pim, q), rest));
+            let r = blend_rotation_mat3(&ts, ctx.get(self.interp)).map(|world| {
+                self.rotation
+                    .rotate_deg_mat3(ctx, &local_rotation_mat3(&pim, world, DVec3::ZERO), rest)
+            });
             let r = self.rotate.apply(ctx, r);
             ctx.set(self.out_rotate, r);
         }

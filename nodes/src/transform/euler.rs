@@ -374,6 +374,12 @@ pub fn mat3_to_euler_closest(m: DMat3, order: RotateOrder, prev: DVec3) -> DVec3
     closest(&super::math::orthonormalize(m), order, prev)
 }
 
+/// [`quat_to_euler_closest`] of a rotation given as a matrix (orthonormal, det +1, finite),
+/// without the quaternion: the angles of `rot` in `order` closest to `prev`.
+pub(crate) fn rotation_to_euler_closest(rot: &DMat3, order: RotateOrder, prev: DVec3) -> DVec3 {
+    closest(rot, order, prev)
+}
+
 fn closest(rot: &DMat3, order: RotateOrder, prev: DVec3) -> DVec3 {
     let prev = finite_or_zero(prev);
     let [_, _, k] = order.axes();
