@@ -1,7 +1,7 @@
 //! `orientConstraint` and `aimConstraint`: the constrained node takes the
 //! weighted world orientation of its targets, or aims an axis at them.
 
-use glam::{DMat4, DQuat, DVec3};
+use glam::{DMat3, DMat4, DQuat, DVec3};
 use sinew_core::{ComputeContext, ComputeError, Input, NodeSpec, NodeType, Output, SpecError, Unit};
 
 use super::common::{
@@ -9,7 +9,7 @@ use super::common::{
     ChildRotation, Targets, INTERP_TYPES,
 };
 use super::rotation_path::{blend_rotation_mat3, local_rotation_mat3};
-use crate::transform::math::aim_quat;
+use crate::transform::math::{aim_matrix, orthonormalize};
 
 /// Maya's `worldUpType` choices, in enum order (index 3, `vector`, is the
 /// default, as the `aimConstraint` command creates it).
@@ -193,8 +193,9 @@ impl AimConstraint {
         })
     }
 
-    /// The parent-space rotation aiming at `target`, before `offset`.
-    fn aim_local(&self, ctx: &ComputeContext<'_>, pim: DMat4, target: DVec3) -> DQuat {
+    /// The parent-space rotation aiming at `target`, before `offset`, as a rotation matrix
+    /// (the matrix path of `rotation_path`: the aim frame is a matrix already).
+    fn aim_local(&self, ctx: &ComputeContext<'_>, pim: DMat4, target: DVec3) -> DMat3 {
         let origin_local = ctx.get(self.translate) + self.pivot.sum(ctx);
         let from = parent_world(pim).transform_point3(origin_local);
         let aim = ctx.get(self.aim_vector);
@@ -209,11 +210,11 @@ impl AimConstraint {
                 // no twist: minimal rotation in the parent's (rotation-only) frame
                 let parent_rot_inv = local_rotation(pim, DQuat::IDENTITY);
                 let dir = parent_rot_inv * (target - from);
-                return aim_quat(DVec3::ZERO, dir, aim, up, DVec3::ZERO);
+                return aim_matrix(DVec3::ZERO, dir, aim, up, DVec3::ZERO);
             }
             _ => wu,
         };
-        local_rotation(pim, aim_quat(from, target, aim, up, world_up))
+        orthonormalize(DMat3::from_mat4(pim) * aim_matrix(from, target, aim, up, world_up))
     }
 }
 
@@ -226,10 +227,15 @@ impl NodeType for AimConstraint {
         let ts = self.targets.read(ctx);
         let pim = ctx.get(self.parent_inverse);
         let rest = self.rotate.rest(ctx);
-        let off = offset_quat(ctx.get(self.offset));
+        let off = ctx.get(self.offset);
         let r = weighted_position(&ts).map(|target| {
-            let local = self.aim_local(ctx, pim, target) * off;
-            self.rotation.rotate_deg(ctx, local, rest)
+            let local = self.aim_local(ctx, pim, target);
+            let local = if off == DVec3::ZERO {
+                local
+            } else {
+                local * DMat3::from_quat(offset_quat(off))
+            };
+            self.rotation.rotate_deg_mat3(ctx, &local, rest)
         });
         let r = self.rotate.apply(ctx, r);
         ctx.set(self.out_rotate, r);
