@@ -12,6 +12,7 @@ use sinew_core::{AttrId, ComputeContext, Input, MultiInput, SpecBuilder, Unit};
 
 use crate::ik::EulerMemo;
 use crate::transform::euler::sanitize_quat;
+use crate::transform::matrix_nodes::inverse_or_identity;
 use crate::transform::math::{
     euler_to_quat, is_identity_bits, matrix_rotation_quat, orthonormalize, quat_blend_weighted, rotate_for_orientation_quats, slerp_shortest,
     to_translate_rotate_scale, RotateOrder,
@@ -370,18 +371,9 @@ pub(crate) fn offset_quat(offset_deg: DVec3) -> DQuat {
 }
 
 /// Inverse of a parentInverseMatrix (the parent's world matrix), or identity
-/// when it is singular or the inverse is not finite.
+/// when it is singular or the inverse is not finite ([`inverse_or_identity`]).
 pub(crate) fn parent_world(parent_inverse: DMat4) -> DMat4 {
-    let det = parent_inverse.determinant();
-    if !(det.is_finite() && det != 0.0) {
-        return DMat4::IDENTITY;
-    }
-    let p = parent_inverse.inverse();
-    if p.is_finite() {
-        p
-    } else {
-        DMat4::IDENTITY
-    }
+    inverse_or_identity(parent_inverse)
 }
 
 /// Collects attribute ids from several groups, for `affects`.

@@ -286,8 +286,9 @@ impl Prepared {
         if !chain.parent_world.is_finite() {
             return Err(IkError::NonFinite("parent_world"));
         }
-        let det = chain.parent_world.determinant();
-        let to_chain = chain.parent_world.inverse();
+        // An affine parent (the usual case) is inverted as one.
+        let (to_chain, det) = crate::transform::math::affine_inverse(&chain.parent_world)
+            .unwrap_or_else(|| (chain.parent_world.inverse(), chain.parent_world.determinant()));
         if !det.is_finite() || det.abs() < 1e-12 || !to_chain.is_finite() {
             return Err(IkError::SingularParent);
         }

@@ -90,12 +90,7 @@ pub fn world_matrix(local: DMat4, parent_world: DMat4) -> DMat4 {
 /// equals `a * b` (up to the sign of zero entries); projective matrices take the full product.
 #[inline]
 pub fn mul_affine(a: &DMat4, b: &DMat4) -> DMat4 {
-    // Last row exactly `±0 ±0 ±0 1`: the three zeros tested at once (bits without the sign).
-    let affine = |m: &DMat4| {
-        ((m.x_axis.w.to_bits() | m.y_axis.w.to_bits() | m.z_axis.w.to_bits()) << 1) == 0
-            && m.w_axis.w.to_bits() == 1f64.to_bits()
-    };
-    if !(affine(a) && affine(b)) {
+    if !(is_affine(a) && is_affine(b)) {
         return *a * *b;
     }
     let (ax, ay, az, aw) = (
@@ -111,6 +106,30 @@ pub fn mul_affine(a: &DMat4, b: &DMat4) -> DMat4 {
         col(b.z_axis).extend(0.0),
         (col(b.w_axis) + aw).extend(1.0),
     )
+}
+
+/// Whether `m`'s last row is exactly `±0 ±0 ±0 1` (an affine matrix, as transform and joint
+/// matrices are): the three zeros tested at once (bits without the sign).
+#[inline]
+pub fn is_affine(m: &DMat4) -> bool {
+    ((m.x_axis.w.to_bits() | m.y_axis.w.to_bits() | m.z_axis.w.to_bits()) << 1) == 0
+        && m.w_axis.w.to_bits() == 1f64.to_bits()
+}
+
+/// For an affine `m` ([`is_affine`]): its inverse, computed as glam's 3×3 inverse of the
+/// linear part `A` and the translation `-A⁻¹·t`, and `det A` (which is `det m`). About a third
+/// of the instructions of glam's 4×4 inverse and determinant. `None` when `m` is not affine.
+///
+/// A singular `A` gives a non-finite inverse, as glam's does; callers test `det` and the
+/// result's finiteness.
+#[inline]
+pub fn affine_inverse(m: &DMat4) -> Option<(DMat4, f64)> {
+    if !is_affine(m) {
+        return None;
+    }
+    let a = DMat3::from_mat4(*m);
+    let inv = a.inverse();
+    Some((DMat4::from_mat3_translation(inv, -(inv * m.w_axis.truncate())), a.determinant()))
 }
 
 /// Whether `m` is bit for bit [`DMat4::IDENTITY`] (so `-0.0` entries count as different).

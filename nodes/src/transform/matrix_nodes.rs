@@ -9,11 +9,22 @@ use glam::{DMat4, DQuat, DVec3};
 use sinew_core::{ComputeContext, ComputeError, Input, MultiInput, NodeSpec, NodeType, Output, SpecError, Unit};
 
 use super::dag_nodes::{deg_to_rad, rad_to_deg, rotate_order, ROTATE_ORDERS};
-use super::math::{compose, compose_quat, decompose, decompose_quat, euler_to_quat, quat_to_euler, Decomposed};
+use super::math::{
+    affine_inverse, compose, compose_quat, decompose, decompose_quat, euler_to_quat, quat_to_euler, Decomposed,
+};
 
 /// The inverse of `m`, or the identity when `m` is singular (determinant 0),
 /// not finite, or its inverse overflows. Never NaN.
+///
+/// An affine `m` (last row `0 0 0 1`) is inverted as one ([`affine_inverse`]).
 pub fn inverse_or_identity(m: DMat4) -> DMat4 {
+    if let Some((inv, det)) = affine_inverse(&m) {
+        return if det != 0.0 && det.is_finite() && inv.is_finite() {
+            inv
+        } else {
+            DMat4::IDENTITY
+        };
+    }
     if !m.is_finite() {
         return DMat4::IDENTITY;
     }

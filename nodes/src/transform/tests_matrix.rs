@@ -381,3 +381,79 @@ fn aim_matrix_modes() {
     set(&mut g, "am.envelope", Value::Float(0.0));
     assert_eq!(mat(&mut g, "am.outputMatrix"), input);
 }
+
+/// `inverse_or_identity` of `m` against glam's 4×4 inverse: the same matrix up to rounding
+/// (relative to its size), or the identity in the same cases.
+fn check_inverse(m: DMat4) {
+    use super::math::{affine_inverse, is_affine};
+    use super::matrix_nodes::inverse_or_identity;
+    let got = inverse_or_identity(m);
+    let det = m.determinant();
+    let full = m.inverse();
+    let expect_identity = !m.is_finite() || det == 0.0 || !det.is_finite() || !full.is_finite();
+    if expect_identity {
+        // The 3×3 determinant of an affine matrix can round differently from glam's 4×4 one
+        // only for (nearly) singular matrices: then either result is acceptable, but never NaN.
+        assert!(got.is_finite(), "{m}");
+        if !m.is_finite() || !is_affine(&m) {
+            assert_eq!(got, DMat4::IDENTITY, "{m}");
+        }
+        return;
+    }
+    let scale = full.to_cols_array().iter().fold(1.0f64, |a, x| a.max(x.abs()));
+    assert!(got.abs_diff_eq(full, 1e-12 * scale), "{m}: {got} vs {full}");
+    if let Some((inv, d)) = affine_inverse(&m) {
+        assert_eq!(inv, got);
+        assert!((d - det).abs() <= 1e-12 * det.abs().max(1.0), "{d} vs {det}");
+        assert!((m * inv).abs_diff_eq(DMat4::IDENTITY, 1e-9 * scale.max(1.0)));
+    } else {
+        // not affine: glam's inverse, bit for bit
+        assert_eq!(got.to_cols_array().map(f64::to_bits), full.to_cols_array().map(f64::to_bits));
+    }
+}
+
+/// Affine and projective matrices, singular ones (a zero axis, a zero matrix), non-finite
+/// ones, a signed-zero last row and huge and tiny scales.
+#[test]
+fn inverse_or_identity_affine_path_edge_cases() {
+    let r = DMat4::from_rotation_translation(DQuat::from_rotation_x(0.7), DVec3::new(1.0, -2.0, 3.0));
+    let mut neg_zero_row = r;
+    neg_zero_row.x_axis.w = -0.0;
+    let mut projective = r;
+    projective.x_axis.w = 0.25;
+    for m in [
+        DMat4::IDENTITY,
+        DMat4::ZERO,
+        r,
+        neg_zero_row,
+        projective,
+        r * DMat4::from_scale(DVec3::new(2.0, 0.0, 1.0)),
+        r * DMat4::from_scale(DVec3::new(-1.0, 3.0, 0.5)),
+        r * DMat4::from_scale(DVec3::splat(1e-120)),
+        r * DMat4::from_scale(DVec3::splat(1e120)),
+        DMat4::from_translation(DVec3::new(f64::NAN, 0.0, 0.0)),
+        DMat4::from_scale(DVec3::new(f64::INFINITY, 1.0, 1.0)),
+    ] {
+        check_inverse(m);
+    }
+}
+
+proptest! {
+    #[test]
+    fn inverse_or_identity_matches_the_full_inverse(
+        r in (-4.0f64..4.0, -4.0f64..4.0, -4.0f64..4.0),
+        s in (0.1f64..5.0, 0.1f64..5.0, -5.0f64..5.0),
+        sh in (-0.5f64..0.5, -0.5f64..0.5, -0.5f64..0.5),
+        t in (-100.0f64..100.0, -100.0f64..100.0, -100.0f64..100.0),
+        w in prop_oneof![Just(0.0), -0.5f64..0.5],
+    ) {
+        let rot = DVec3::new(r.0, r.1, r.2);
+        let m = super::math::compose(
+            DVec3::new(t.0, t.1, t.2), rot, RotateOrder::Zxy, DVec3::new(s.0, s.1, s.2), DVec3::new(sh.0, sh.1, sh.2),
+        );
+        check_inverse(m);
+        let mut p = m;
+        p.y_axis.w = w;
+        check_inverse(p);
+    }
+}
