@@ -12,11 +12,11 @@ use sinew_core::{AttrId, ComputeContext, Input, MultiInput, SpecBuilder, Unit};
 
 use crate::ik::EulerMemo;
 use crate::transform::euler::sanitize_quat;
-use crate::transform::matrix_nodes::inverse_or_identity;
 use crate::transform::math::{
-    euler_to_quat, is_identity_bits, matrix_rotation_quat, orthonormalize, quat_blend_weighted, rotate_for_orientation_quats, slerp_shortest,
-    to_translate_rotate_scale, RotateOrder,
+    euler_to_quat, is_identity_bits, matrix_rotation_quat, orthonormalize, quat_blend_weighted,
+    rotate_for_orientation_quats, slerp_shortest, to_translate_rotate_scale, RotateOrder,
 };
+use crate::transform::matrix_nodes::inverse_or_identity;
 
 thread_local! {
     /// This thread's memo of the constraints' angle conversions (see [`memo_quat`]).

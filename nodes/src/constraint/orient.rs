@@ -83,8 +83,10 @@ impl NodeType for OrientConstraint {
         let pim = ctx.get(self.parent_inverse);
         let rest = self.rotate.rest(ctx);
         let off = ctx.get(self.offset);
-        let r = blend_rotation_mat3(&ts, ctx.get(self.interp))
-            .map(|world| self.rotation.rotate_deg_mat3(ctx, &local_rotation_mat3(&pim, world, off), rest));
+        let r = blend_rotation_mat3(&ts, ctx.get(self.interp)).map(|world| {
+            self.rotation
+                .rotate_deg_mat3(ctx, &local_rotation_mat3(&pim, world, off), rest)
+        });
         let r = self.rotate.apply(ctx, r);
         ctx.set(self.out_rotate, r);
         Ok(())
@@ -109,10 +111,10 @@ impl NodeType for OrientConstraint {
 ///   aim direction in the parent's frame — Maya's `none` starts from the
 ///   previous frame's orientation instead, which a pure node cannot see.
 ///   The up vector ends in the plane of the aim direction and the world up
-///   vector, on its side ([`aim_quat`]).
+///   vector, on its side ([`aim_matrix`]).
 /// * `offset` (degrees, xyz) is then applied in the node's own frame.
 ///
-/// Degenerate input never gives NaN ([`aim_quat`]'s fallbacks): a target at
+/// Degenerate input never gives NaN ([`aim_matrix`]'s fallbacks): a target at
 /// the aim origin leaves the aim axis where it is, an up vector parallel to
 /// the aim direction falls back to no twist. No target with positive
 /// weight: `restRotate`.

@@ -58,7 +58,12 @@ impl ChildRotation {
 
 /// The general path's parent-space rotation, for the tests: `local_rotation(pim, q * off)`.
 #[cfg(test)]
-pub(crate) fn local_rotation_general(parent_inverse: DMat4, ts: &[Target], interp: i64, offset_deg: DVec3) -> Option<glam::DQuat> {
+pub(crate) fn local_rotation_general(
+    parent_inverse: DMat4,
+    ts: &[Target],
+    interp: i64,
+    offset_deg: DVec3,
+) -> Option<glam::DQuat> {
     blend_rotation(ts, interp).map(|q| super::common::local_rotation(parent_inverse, q * offset_quat(offset_deg)))
 }
 
@@ -77,12 +82,24 @@ mod tests {
 
     /// An affine matrix: any rotation, non-uniform (possibly mirrored) scale, shear.
     fn affine() -> impl Strategy<Value = DMat4> {
-        (vec3(-10.0, 10.0), vec3(-4.0, 4.0), 0i64..6, vec3(0.2, 5.0), any::<bool>(), vec3(-0.5, 0.5)).prop_map(
-            |(t, r, o, s, mirror, sh)| {
-                let order = RotateOrder::from_index(o).unwrap_or_default();
-                compose(t, r, order, s * DVec3::new(1.0, 1.0, if mirror { -1.0 } else { 1.0 }), sh)
-            },
+        (
+            vec3(-10.0, 10.0),
+            vec3(-4.0, 4.0),
+            0i64..6,
+            vec3(0.2, 5.0),
+            any::<bool>(),
+            vec3(-0.5, 0.5),
         )
+            .prop_map(|(t, r, o, s, mirror, sh)| {
+                let order = RotateOrder::from_index(o).unwrap_or_default();
+                compose(
+                    t,
+                    r,
+                    order,
+                    s * DVec3::new(1.0, 1.0, if mirror { -1.0 } else { 1.0 }),
+                    sh,
+                )
+            })
     }
 
     /// Same rotation up to rounding (q and -q are the same rotation).
@@ -96,11 +113,16 @@ mod tests {
         let general = local_rotation_general(pim, ts, interp, off);
         let world = blend_rotation_mat3(ts, interp);
         assert_eq!(general.is_some(), world.is_some());
-        let (Some(q), Some(world)) = (general, world) else { return };
+        let (Some(q), Some(world)) = (general, world) else {
+            return;
+        };
         let m = local_rotation_mat3(&pim, world, off);
         assert!((m.transpose() * m).abs_diff_eq(DMat3::IDENTITY, 1e-12) && m.determinant() > 0.0);
         assert!(same_rotation(sanitize_quat(DQuat::from_mat3(&m)), q), "{m} vs {q}");
-        let (a, b) = (rotation_to_euler_closest(&m, order, near), quat_to_euler_closest(q, order, near));
+        let (a, b) = (
+            rotation_to_euler_closest(&m, order, near),
+            quat_to_euler_closest(q, order, near),
+        );
         let [_, j, _] = order.axes();
         if a[j].cos().abs() > 1e-4 {
             assert!((a - b).abs().max_element() < 1e-9, "{a} vs {b}");
@@ -115,7 +137,13 @@ mod tests {
     /// an axis, mirrored), one and two targets, every interpType and rotate order.
     #[test]
     fn matrix_path_matches_the_general_path_on_edge_cases() {
-        let r = compose(DVec3::ONE, DVec3::new(0.3, -1.2, 2.0), RotateOrder::Zxy, DVec3::ONE, DVec3::ZERO);
+        let r = compose(
+            DVec3::ONE,
+            DVec3::new(0.3, -1.2, 2.0),
+            RotateOrder::Zxy,
+            DVec3::ONE,
+            DVec3::ZERO,
+        );
         let pims = [
             DMat4::IDENTITY,
             DMat4::ZERO,

@@ -403,7 +403,11 @@ mod tests {
             DMat3::from_diagonal(DVec3::splat(1e-300)),
             DMat3::from_cols(x, DVec3::new(f64::NAN, 0.0, 0.0), DVec3::Z),
             DMat3::from_cols(DVec3::new(f64::INFINITY, 0.0, 0.0), DVec3::Y, DVec3::Z),
-            DMat3::from_cols(DVec3::new(-0.0, 1.0, 0.0), DVec3::new(-1.0, -0.0, 0.0), DVec3::new(0.0, 0.0, -1.0)),
+            DMat3::from_cols(
+                DVec3::new(-0.0, 1.0, 0.0),
+                DVec3::new(-1.0, -0.0, 0.0),
+                DVec3::new(0.0, 0.0, -1.0),
+            ),
         ];
         for m in mats {
             check_rotation_only(m, DVec3::new(3.0, -4.0, 5.0));
@@ -412,7 +416,13 @@ mod tests {
 
     /// The rotation-only functions against the full split, bit for bit.
     fn check_rotation_only(m: DMat3, t: DVec3) {
-        let full = |m: DMat3| if m.is_finite() { split_rotation_scale_shear(m).0 } else { DMat3::IDENTITY };
+        let full = |m: DMat3| {
+            if m.is_finite() {
+                split_rotation_scale_shear(m).0
+            } else {
+                DMat3::IDENTITY
+            }
+        };
         let bits3 = |m: DMat3| m.to_cols_array().map(f64::to_bits);
         assert_eq!(bits3(orthonormalize(m)), bits3(full(m)), "{m}");
         let m4 = DMat4::from_mat3_translation(m, t);

@@ -49,8 +49,8 @@
 use glam::{DMat3, DMat4, DQuat, DVec3};
 
 pub use super::decompose::{
-    blend_matrices, compose, compose_quat, decompose, decompose_quat, orthonormalize, remove_scale,
-    matrix_rotation_quat, to_translate_rotate_scale, Decomposed,
+    blend_matrices, compose, compose_quat, decompose, decompose_quat, matrix_rotation_quat, orthonormalize,
+    remove_scale, to_translate_rotate_scale, Decomposed,
 };
 pub use super::euler::{
     euler_to_mat3, euler_to_mat4, euler_to_quat, mat3_to_euler, mat3_to_euler_closest, quat_to_euler,
@@ -129,7 +129,10 @@ pub fn affine_inverse(m: &DMat4) -> Option<(DMat4, f64)> {
     }
     let a = DMat3::from_mat4(*m);
     let inv = a.inverse();
-    Some((DMat4::from_mat3_translation(inv, -(inv * m.w_axis.truncate())), a.determinant()))
+    Some((
+        DMat4::from_mat3_translation(inv, -(inv * m.w_axis.truncate())),
+        a.determinant(),
+    ))
 }
 
 /// Whether `m` is bit for bit [`DMat4::IDENTITY`] (so `-0.0` entries count as different).

@@ -408,7 +408,10 @@ fn check_inverse(m: DMat4) {
         assert!((m * inv).abs_diff_eq(DMat4::IDENTITY, 1e-9 * scale.max(1.0)));
     } else {
         // not affine: glam's inverse, bit for bit
-        assert_eq!(got.to_cols_array().map(f64::to_bits), full.to_cols_array().map(f64::to_bits));
+        assert_eq!(
+            got.to_cols_array().map(f64::to_bits),
+            full.to_cols_array().map(f64::to_bits)
+        );
     }
 }
 
