@@ -309,7 +309,7 @@ fn alternate(e: DVec3, order: RotateOrder) -> DVec3 {
 pub(crate) fn round_half_away(x: f64) -> f64 {
     let a = x.abs();
     if a < 4_503_599_627_370_496.0 {
-        let t = a as u64 as f64;
+        let t = a as i64 as f64;
         let r = if a - t >= 0.5 { t + 1.0 } else { t };
         r.copysign(x)
     } else {
