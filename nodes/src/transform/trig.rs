@@ -6,8 +6,6 @@
 //! inline. On the example biped this saves about 8k of 190k instructions per frame with the
 //! arms in IK.
 
-use std::f64::consts::{FRAC_PI_2, PI};
-
 /// The angle of the point `(x, y)`, as [`f64::atan2`]: in `[-π, π]`, within one unit in the
 /// last place of the exact value.
 #[inline]
@@ -24,6 +22,7 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::{FRAC_PI_2, PI};
     use proptest::prelude::*;
 
     /// Distance in units in the last place (same sign assumed; ±0 count as equal).
