@@ -205,7 +205,7 @@ pub(crate) fn run_steps<'s>(
     Ok(())
 }
 
-/// Runs one step over `slots`: its scalar kernel when it has one, else its compute.
+/// Runs one step over `slots`: its scalar or matrix kernel when it has one, else its compute.
 #[inline(always)]
 pub(crate) fn run_step(
     step: &Step,
@@ -215,6 +215,11 @@ pub(crate) fn run_step(
     time: Time,
 ) -> std::result::Result<(), ComputeError> {
     if let Some(k) = &step.kernel {
+        if k.run(slots) {
+            return Ok(());
+        }
+    }
+    if let Some(k) = &step.mat_kernel {
         if k.run(slots) {
             return Ok(());
         }

@@ -12,6 +12,7 @@ use crate::error::ComputeError;
 use crate::graph::store::AttrStore;
 pub use crate::inactive::KnownInputs;
 use crate::kernel::ScalarKernel;
+use crate::mat_kernel::MatrixKernel;
 use crate::program::{AttrBinding, Binding, CompiledTables, ElemBinding};
 use crate::slots::Slots;
 use crate::spec::{AttrId, Input, MultiInput, MultiOutput, NodeSpec, Output};
@@ -40,6 +41,16 @@ pub trait NodeType: Send + Sync + 'static {
     /// the kernel directly over its slots. `compute` must give exactly what
     /// the kernel gives. The default is `None` (always call `compute`).
     fn scalar_kernel(&self) -> Option<&ScalarKernel> {
+        None
+    }
+
+    /// An optional fast path for one compute group whose only output is a matrix computed
+    /// by a pure function of three single matrix attributes (a world matrix from the
+    /// parent's, an offset and the local one): return that [`MatrixKernel`] (built once,
+    /// with the spec), and have `compute` call the same function for that group. A compiled
+    /// program then runs the function directly over its matrix slots. The default is
+    /// `None` (always call `compute`).
+    fn matrix_kernel(&self) -> Option<&MatrixKernel> {
         None
     }
 

@@ -21,6 +21,7 @@ use crate::error::{nearest, Error, Result};
 use crate::graph::{Graph, Plug};
 use crate::inactive::Guard;
 use crate::kernel::KernelStep;
+use crate::mat_kernel::MatKernelStep;
 use crate::node::NodeType;
 use crate::path::{parse_plug_path, resolve_attr, AttrLookupError};
 use crate::slots::Slots;
@@ -176,11 +177,14 @@ pub(crate) struct Step {
     pub group: u16,
     /// The node's scalar kernel bound to its slots, run instead of `compute`.
     pub kernel: Option<KernelStep>,
+    /// The node's matrix kernel when this step is its group, bound to its slots, run
+    /// instead of `compute`.
+    pub mat_kernel: Option<MatKernelStep>,
 }
 
 impl Step {
     /// A step of group `group` of a node whose attribute bindings start at
-    /// `attr_base`, with its scalar kernel bound when the node type has one.
+    /// `attr_base`, with its scalar or matrix kernel bound when the node type has one.
     pub(crate) fn new(
         kind: Arc<dyn NodeType>,
         node: u32,
@@ -190,10 +194,9 @@ impl Step {
     ) -> Step {
         let spec = kind.spec();
         let attr_count = spec.attrs.len() as u32;
-        let kernel = kind.scalar_kernel().and_then(|k| {
-            let attrs = attr_bindings.get(attr_base as usize..(attr_base + attr_count) as usize)?;
-            KernelStep::bind(k, spec, attrs)
-        });
+        let attrs = attr_bindings.get(attr_base as usize..(attr_base + attr_count) as usize);
+        let kernel = kind.scalar_kernel().and_then(|k| KernelStep::bind(k, spec, attrs?));
+        let mat_kernel = kind.matrix_kernel().and_then(|k| MatKernelStep::bind(k, group, attrs?));
         Step {
             kind,
             node,
@@ -201,6 +204,7 @@ impl Step {
             attr_count,
             group,
             kernel,
+            mat_kernel,
         }
     }
 }

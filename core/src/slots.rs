@@ -144,6 +144,18 @@ impl Slots {
         self.values.get_mut(Self::at(s, self.base[4]))
     }
 
+    /// Slot `s` when it is a matrix slot.
+    #[inline(always)]
+    pub(crate) fn mat(&self, s: u32) -> Option<&DMat4> {
+        self.mats.get(Self::at(s, self.base[1]))
+    }
+
+    /// Slot `s` when it is a matrix slot, mutably.
+    #[inline(always)]
+    pub(crate) fn mat_mut(&mut self, s: u32) -> Option<&mut DMat4> {
+        self.mats.get_mut(Self::at(s, self.base[1]))
+    }
+
     /// Slot `s` when it is a float slot.
     #[inline(always)]
     pub(crate) fn float(&self, s: u32) -> Option<f64> {

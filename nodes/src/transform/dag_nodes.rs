@@ -26,7 +26,8 @@
 
 use glam::{DMat4, DVec3};
 use sinew_core::{
-    ComputeContext, ComputeError, Input, MirrorRole, NodeSpec, NodeType, Output, SpecBuilder, SpecError, Unit,
+    ComputeContext, ComputeError, Input, MatrixKernel, MirrorRole, NodeSpec, NodeType, Output, SpecBuilder, SpecError,
+    Unit,
 };
 
 use super::euler::RotateOrder;
@@ -177,6 +178,17 @@ impl Common {
         }
     }
 
+    /// The world-matrix group as a [`MatrixKernel`] over ([`world_matrix`]) for the node
+    /// type with `spec`: what a compiled program runs for it.
+    fn world_kernel(&self, spec: &NodeSpec) -> Result<MatrixKernel, SpecError> {
+        let inputs = [
+            self.parent_matrix.id(),
+            self.offset_parent_matrix.id(),
+            self.matrix.id(),
+        ];
+        MatrixKernel::new(spec, inputs, self.world_matrix, world_matrix)
+    }
+
     /// Calls `f` with `parentMatrix * offsetParentMatrix`, read by reference and skipping
     /// the product when the offset is exactly the identity (its default; compared bit for bit).
     fn with_parent_world<R>(&self, ctx: &ComputeContext<'_>, f: impl FnOnce(&DMat4) -> R) -> R {
@@ -201,7 +213,11 @@ impl Common {
     fn compute(&self, ctx: &mut ComputeContext<'_>, local: impl FnOnce(&ComputeContext<'_>) -> DMat4) {
         if ctx.wants(self.world_matrix) {
             // By reference: three matrices are read and one written on every frame.
-            let w = self.with_parent_world(ctx, |pm| ctx.with_output_ref(self.matrix, |m| mul_affine(pm, m)));
+            let w = ctx.with_ref(self.parent_matrix, |p| {
+                ctx.with_ref(self.offset_parent_matrix, |o| {
+                    ctx.with_output_ref(self.matrix, |m| world_matrix(p, o, m))
+                })
+            });
             ctx.set(self.world_matrix, w);
         } else if ctx.wants(self.matrix) {
             let m = local(ctx);
@@ -219,6 +235,17 @@ impl Common {
     }
 }
 
+/// `worldMatrix` from `parentMatrix`, `offsetParentMatrix` and `matrix`:
+/// `parent · offset · matrix`, the offset skipped when it is exactly the identity (its
+/// default; compared bit for bit). The world group's compute and its [`MatrixKernel`].
+fn world_matrix(parent: &DMat4, offset: &DMat4, m: &DMat4) -> DMat4 {
+    if is_identity_bits(offset) {
+        mul_affine(parent, m)
+    } else {
+        mul_affine(&mul_affine(parent, offset), m)
+    }
+}
+
 /// Maya's `transform` node: `matrix` is
 /// `SP⁻¹·S·SH·SP·ST·RP⁻¹·RA·R·RP·RT·T` (row vectors; see
 /// [`TransformParams::local_matrix`]).
@@ -233,6 +260,7 @@ impl Common {
 pub struct Transform {
     spec: NodeSpec,
     common: Common,
+    world_kernel: MatrixKernel,
     shear: Input<DVec3>,
     rotate_pivot: Input<DVec3>,
     rotate_pivot_translate: Input<DVec3>,
@@ -270,8 +298,10 @@ impl Transform {
             scale_pivot_translate.id(),
         ];
         let common = Common::finish(&mut s, channels, local);
+        let spec = s.build()?;
         Ok(Transform {
-            spec: s.build()?,
+            world_kernel: common.world_kernel(&spec)?,
+            spec,
             common,
             shear,
             rotate_pivot,
@@ -307,6 +337,10 @@ impl NodeType for Transform {
         self.common.compute(ctx, |ctx| self.params(ctx).local_matrix());
         Ok(())
     }
+
+    fn matrix_kernel(&self) -> Option<&MatrixKernel> {
+        Some(&self.world_kernel)
+    }
 }
 
 /// Maya's `joint` node: `matrix` is `S·RA·R·JO·IS·T` (row vectors; see
@@ -325,6 +359,7 @@ impl NodeType for Transform {
 pub struct Joint {
     spec: NodeSpec,
     common: Common,
+    world_kernel: MatrixKernel,
     joint_orient: Input<DVec3>,
     segment_scale_compensate: Input<bool>,
     inverse_scale: Input<DVec3>,
@@ -365,8 +400,10 @@ impl Joint {
         let local = vec![joint_orient.id(), segment_scale_compensate.id(), inverse_scale.id()];
         let common = Common::finish(&mut s, channels, local);
         s.dag_link_from("joint", "scale", inverse_scale);
+        let spec = s.build()?;
         Ok(Joint {
-            spec: s.build()?,
+            world_kernel: common.world_kernel(&spec)?,
+            spec,
             common,
             joint_orient,
             segment_scale_compensate,
@@ -397,5 +434,9 @@ impl NodeType for Joint {
     fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
         self.common.compute(ctx, |ctx| self.params(ctx).local_matrix());
         Ok(())
+    }
+
+    fn matrix_kernel(&self) -> Option<&MatrixKernel> {
+        Some(&self.world_kernel)
     }
 }
