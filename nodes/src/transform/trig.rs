@@ -22,8 +22,8 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::f64::consts::{FRAC_PI_2, PI};
     use proptest::prelude::*;
+    use std::f64::consts::{FRAC_PI_2, PI};
 
     /// Distance in units in the last place (same sign assumed; ±0 count as equal).
     fn ulps(a: f64, b: f64) -> u64 {
