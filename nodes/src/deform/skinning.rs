@@ -309,14 +309,29 @@ impl<'a> Kernel<'a> {
         }
     }
 
-    /// DQS for one vertex; `None` when the vertex has no usable influence.
+    /// DQS for one vertex; `None` when the vertex has no usable influence. Rows of four
+    /// influences (the usual shape) take the same arithmetic over fixed-size arrays, which
+    /// the compiler unrolls without bounds checks.
     #[inline(always)]
     fn dqs_vertex<const N: bool>(&self, js: &[u32], ws: &[f32], p: Vec3A, n: Vec3A) -> Option<(Vec3A, Vec3A)> {
+        match (<&[u32; 4]>::try_from(js), <&[f32; 4]>::try_from(ws)) {
+            (Ok(j4), Ok(w4)) => self.dqs_row::<N, _, _>(j4, w4, p, n),
+            _ => self.dqs_row::<N, _, _>(js, ws, p, n),
+        }
+    }
+
+    /// [`Kernel::dqs_vertex`] over the influences `js`/`ws` (a slice or an array).
+    #[inline(always)]
+    fn dqs_row<'r, const N: bool, J, W>(&self, js: J, ws: W, p: Vec3A, n: Vec3A) -> Option<(Vec3A, Vec3A)>
+    where
+        J: IntoIterator<Item = &'r u32>,
+        W: IntoIterator<Item = &'r f32>,
+    {
         let (mut real, mut dual) = (Vec4::ZERO, Vec4::ZERO);
         let mut stretch = Mat3A::ZERO;
         let mut pivot: Option<Vec4> = None;
         let mut sum = 0.0f32;
-        for (&j, &w) in js.iter().zip(ws) {
+        for (&j, &w) in js.into_iter().zip(ws) {
             let Some(joint) = self.dq.get(j as usize) else {
                 continue;
             };
