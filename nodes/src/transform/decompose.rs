@@ -86,10 +86,12 @@ fn split<const FULL: bool>(a: DMat3) -> (DMat3, DVec3, DVec3) {
     }
     let basis = complete_basis(r);
     let mut rot = DMat3::from_cols(basis[0], basis[1], basis[2]);
+    // A mirror (all three axes known, left-handed) goes into the z axis's scale.
+    let mirrored = r.iter().all(Option::is_some) && rot.determinant() < 0.0;
+    if mirrored {
+        rot.z_axis = -rot.z_axis;
+    }
     if !FULL {
-        if r.iter().all(Option::is_some) && rot.determinant() < 0.0 {
-            rot.z_axis = -rot.z_axis;
-        }
         return (rot, DVec3::ZERO, DVec3::ZERO);
     }
     // Missing (zero or dependent) axes get scale 0.
@@ -101,8 +103,7 @@ fn split<const FULL: bool>(a: DMat3) -> (DMat3, DVec3, DVec3) {
         }
     };
     let mut scale = DVec3::new(axis_scale(0), axis_scale(1), axis_scale(2));
-    if r.iter().all(Option::is_some) && rot.determinant() < 0.0 {
-        rot.z_axis = -rot.z_axis;
+    if mirrored {
         scale.z = -scale.z;
     }
     let div = |num: f64, den: f64| if den == 0.0 { 0.0 } else { num / den };
