@@ -12,7 +12,7 @@
 use glam::DMat4;
 
 use crate::error::SpecError;
-use crate::program::{AttrBinding, Binding};
+use crate::program::AttrBinding;
 use crate::slots::Slots;
 use crate::spec::{AttrId, NodeSpec, Output};
 use crate::value::AttrType;
@@ -100,10 +100,8 @@ impl MatKernelStep {
         if group != kernel.group {
             return None;
         }
-        let slot = |id: AttrId| {
-            let b = attrs.get(id.index())?;
-            (b.len == 1 && matches!(b.head, Binding::Slot(_)) && b.slot != u32::MAX).then_some(b.slot)
-        };
+        // `AttrBinding::slot` is the whole slot of a single attribute, `u32::MAX` otherwise.
+        let slot = |id: AttrId| attrs.get(id.index()).map(|b| b.slot).filter(|&s| s != u32::MAX);
         Some(MatKernelStep {
             inputs: [
                 slot(kernel.inputs[0])?,
@@ -131,12 +129,6 @@ impl MatKernelStep {
             }
             None => false,
         }
-    }
-
-    /// The slot ids read and written (for renumbering checks in tests).
-    #[cfg(test)]
-    pub(crate) fn slots(&self) -> ([u32; 3], u32) {
-        (self.inputs, self.output)
     }
 }
 

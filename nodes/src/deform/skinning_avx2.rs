@@ -82,8 +82,8 @@ pub(super) unsafe fn run(k: &Lbs<'_>, start: usize, out_p: &mut [Vec3], out_n: &
     }
 }
 
-/// A chunk's uniform four-influence rows: joints (as `u32`, and as `u16` when compact) and
-/// weights, `4 · count` entries each, or all empty when rows are looked up per vertex.
+/// A chunk's uniform four-influence rows: joints, their palette byte offsets when compact,
+/// and weights, `4 · count` entries each, or all empty when rows are looked up per vertex.
 #[derive(Clone, Copy)]
 struct Rows<'a> {
     js: &'a [u32],

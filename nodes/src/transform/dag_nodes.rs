@@ -178,8 +178,8 @@ impl Common {
         }
     }
 
-    /// The world-matrix group as a [`MatrixKernel`] over ([`world_matrix`]) for the node
-    /// type with `spec`: what a compiled program runs for it.
+    /// The world-matrix group as a [`MatrixKernel`] of [`world_matrix`] for the node type
+    /// with `spec`: what a compiled program runs for that group.
     fn world_kernel(&self, spec: &NodeSpec) -> Result<MatrixKernel, SpecError> {
         let inputs = [
             self.parent_matrix.id(),

@@ -15,9 +15,9 @@
 
 use glam::{DMat3, DMat4, DQuat, DVec3};
 use std::f64::consts::{PI, TAU};
+use std::fmt;
 
 use super::trig::atan2;
-use std::fmt;
 
 /// Below this `cos(middle angle)` the extraction treats the rotation as gimbal
 /// locked (the last angle is then a free choice). Rounding noise in a matrix
