@@ -1,7 +1,14 @@
 //! The whole example biped (graphs/examples/biped/biped.ron) per frame: compiled (the per-frame
 //! schedule; pruned to the joints' world matrices as authored, arms in FK, and with both arms
-//! switched to IK; every step) against lazy evaluation (set the time, pull every joint's world
-//! matrix, typed, as an engine reads it). Criterion's `elem/s` is nodes per second (divide 1e9 by it for ns per node).
+//! switched to IK at run time or before compiling; every step) against lazy evaluation (set
+//! the time, pull every joint's world matrix, typed, as an engine reads it). Criterion's
+//! `elem/s` is nodes per second (divide 1e9 by it for ns per node).
+//!
+//! Before criterion runs, the three pruned cases are also timed interleaved (48-frame cycles
+//! in turn, 300 rounds) and their fastest and median cycle printed per frame: on a shared
+//! machine whose speed drifts, criterion's one-after-the-other means can differ by a third
+//! between cases for no reason of theirs, while alternating exposes every case to the same
+//! drift.
 //!
 //! Run: `cargo bench --bench biped`.
 
@@ -61,16 +68,52 @@ fn biped(c: &mut Criterion) {
         ik_inst.set(&h, Value::Float(1.0)).expect("set");
     }
 
+    // What an engine whose characters keep their arms in IK compiles: the same rig with the
+    // switches set before compiling, so the guarded schedule is the IK one (the FK-only work
+    // drops out of the frame). Switched back afterwards for the lazy case below.
+    let arm_switches = ["arm_settings_L.input", "arm_settings_R.input"];
+    for s in arm_switches {
+        graph.set_path(s, Value::Float(1.0)).expect("set");
+    }
+    let observed_ik: Vec<Plug> = joints.iter().map(|j| graph.plug(j).expect("plug")).collect();
+    let pruned_for_ik = Arc::new(
+        Program::compile(
+            &graph,
+            &CompileOptions {
+                observed: Some(observed_ik),
+                ..Default::default()
+            },
+        )
+        .expect("compile"),
+    );
+    for s in arm_switches {
+        graph.set_path(s, Value::Float(0.0)).expect("set");
+    }
+    let ik_handles: Vec<PlugHandle> = joints
+        .iter()
+        .map(|j| pruned_for_ik.handle(j).expect("handle"))
+        .collect();
+    let mut for_ik_inst = Instance::new(pruned_for_ik);
+    let mut pruned_inst = Instance::new(pruned);
+
+    report_interleaved(&mut [
+        ("arms FK (as authored)", &mut pruned_inst, &pruned_handles),
+        ("arms IK (switched at run time)", &mut ik_inst, &pruned_handles),
+        ("arms IK (compiled so)", &mut for_ik_inst, &ik_handles),
+    ]);
+
     let mut g = c.benchmark_group("biped_frame");
     g.throughput(Throughput::Elements(nodes));
     let mut inst = Instance::new(program.clone());
     g.bench_function("compiled", |b| frames(b, &mut inst, &handles, false));
-    let mut pruned_inst = Instance::new(pruned);
     g.bench_function("compiled_pruned", |b| {
         frames(b, &mut pruned_inst, &pruned_handles, false)
     });
     g.bench_function("compiled_pruned_arms_ik", |b| {
         frames(b, &mut ik_inst, &pruned_handles, false)
+    });
+    g.bench_function("compiled_pruned_for_arms_ik", |b| {
+        frames(b, &mut for_ik_inst, &ik_handles, false)
     });
     g.bench_function("compiled_full", |b| frames(b, &mut inst, &handles, true));
     g.bench_function("lazy", |b| {
@@ -84,6 +127,40 @@ fn biped(c: &mut Criterion) {
         })
     });
     g.finish();
+}
+
+/// Times the cases in turn, one 48-frame cycle each (after one untimed cycle, so caches are
+/// warm as in criterion's loop), 300 rounds; prints each case's fastest and median cycle per frame.
+fn report_interleaved(cases: &mut [(&str, &mut Instance, &Vec<PlugHandle>)]) {
+    let cycle = |inst: &mut Instance, handles: &[PlugHandle]| {
+        for f in 1..=48 {
+            inst.evaluate(Time::new(f as f64, 24.0)).expect("eval");
+            for h in handles {
+                black_box(inst.get_typed::<DMat4>(h));
+            }
+        }
+    };
+    let mut times = vec![Vec::new(); cases.len()];
+    for _ in 0..300 {
+        for (k, (_, inst, handles)) in cases.iter_mut().enumerate() {
+            cycle(inst, handles);
+            let t = std::time::Instant::now();
+            cycle(inst, handles);
+            times[k].push(t.elapsed().as_secs_f64() / 48.0 * 1e6);
+        }
+    }
+    let summary: Vec<String> = cases
+        .iter()
+        .zip(&mut times)
+        .map(|((name, ..), t)| {
+            t.sort_by(f64::total_cmp);
+            format!("{name} {:.2} / {:.2} µs", t[0], t[t.len() / 2])
+        })
+        .collect();
+    println!(
+        "biped pruned, interleaved, per frame (fastest / median cycle of 300): {}",
+        summary.join("; ")
+    );
 }
 
 /// Evaluates `inst` over the 48-frame cycle (every step when `full`) and reads `handles`.
