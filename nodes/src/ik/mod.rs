@@ -141,6 +141,8 @@ mod tests_nodes_spline;
 #[cfg(test)]
 mod tests_props;
 #[cfg(test)]
+mod tests_shortcuts;
+#[cfg(test)]
 mod tests_snap;
 #[cfg(test)]
 mod tests_spline;

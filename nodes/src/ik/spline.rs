@@ -226,9 +226,10 @@ pub(super) fn solve_spline_into(
                 next_on_curve(spline, table, t, prev, *l)
             };
             match next {
-                Some(tn) => {
+                Some((tn, point)) => {
                     t = tn;
-                    pos.push(spline.point(tn) + shift);
+                    // The point `chord_root` evaluated at `tn`, when it did (the same bits).
+                    pos.push(point.unwrap_or_else(|| spline.point(tn)) + shift);
                     cparams.push(Some(spline.normalize_param(tn)));
                 }
                 None => {
@@ -266,13 +267,20 @@ pub(super) fn solve_spline_into(
 }
 
 /// First parameter after `t` whose curve point is exactly `len` from `from`; `None` if the
-/// curve ends (or, periodic, loops once) first.
+/// curve ends (or, periodic, loops once) first. With the parameter comes its curve point
+/// `spline.point(parameter)` when [`chord_root`] evaluated it (else `None`).
 ///
 /// The table's stored sample points bracket the crossing (no curve evaluation), then
 /// [`chord_root`] pins it down.
-fn next_on_curve(spline: &BSpline, table: &ArcLengthTable, t: f64, from: DVec3, len: f64) -> Option<f64> {
+pub(super) fn next_on_curve(
+    spline: &BSpline,
+    table: &ArcLengthTable,
+    t: f64,
+    from: DVec3,
+    len: f64,
+) -> Option<(f64, Option<DVec3>)> {
     if len <= EPS {
-        return Some(t);
+        return Some((t, None));
     }
     let (a, b) = spline.domain();
     let period = b - a;
@@ -314,12 +322,15 @@ fn next_on_curve(spline: &BSpline, table: &ArcLengthTable, t: f64, from: DVec3, 
 /// `f(x) = |C(x) - from| - len`: Illinois (modified regula falsi), which keeps the bracket
 /// and converges superlinearly, falling back to bisection when a step leaves the bracket.
 /// Stops when `|f|` is within a few ulps of `len` or the bracket cannot shrink; returns
-/// the bracket end with `f >= 0` unless an interior point hit the tolerance.
-fn chord_root(spline: &BSpline, from: DVec3, len: f64, lo: (f64, f64), hi: (f64, f64)) -> f64 {
+/// the bracket end with `f >= 0` unless an interior point hit the tolerance. With the
+/// parameter comes `spline.point(parameter)` when it was evaluated here (`None` for the
+/// given `hi`, whose point is the caller's), so the caller need not evaluate it again.
+fn chord_root(spline: &BSpline, from: DVec3, len: f64, lo: (f64, f64), hi: (f64, f64)) -> (f64, Option<DVec3>) {
     let tol = len * 4.0 * f64::EPSILON;
     let ((mut x0, mut f0), (mut x1, mut f1)) = (lo, hi);
+    let mut p1 = None;
     if f1 <= tol {
-        return x1;
+        return (x1, p1);
     }
     let mut last_side = 0i8;
     for _ in 0..200 {
@@ -330,12 +341,13 @@ fn chord_root(spline: &BSpline, from: DVec3, len: f64, lo: (f64, f64), hi: (f64,
                 break;
             }
         }
-        let fx = spline.point(x).distance(from) - len;
+        let px = spline.point(x);
+        let fx = px.distance(from) - len;
         if fx.abs() <= tol {
-            return x;
+            return (x, Some(px));
         }
         if fx >= 0.0 {
-            (x1, f1) = (x, fx);
+            (x1, f1, p1) = (x, fx, Some(px));
             if last_side == 1 {
                 f0 *= 0.5;
             }
@@ -348,7 +360,7 @@ fn chord_root(spline: &BSpline, from: DVec3, len: f64, lo: (f64, f64), hi: (f64,
             last_side = -1;
         }
     }
-    x1
+    (x1, p1)
 }
 
 /// Places a joint `len` from `prev` past the end of an open curve, on the line through

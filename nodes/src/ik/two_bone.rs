@@ -299,7 +299,7 @@ impl Planes {
             (None, Some(wr)) => perp(carry() * wr, u).unwrap_or_else(|| u.any_orthonormal_vector()),
             (None, None) => u.any_orthonormal_vector(),
         };
-        let w = perp(DQuat::from_axis_angle(u, twist) * w0, u).unwrap_or(w0);
+        let w = perp(axis_angle(u, twist) * w0, u).unwrap_or(w0);
         let w_r = match w_rest {
             Some(wr) => wr,
             None => perp(carry().inverse() * w, u_r).unwrap_or_else(|| u_r.any_orthonormal_vector()),
@@ -310,6 +310,17 @@ impl Planes {
     /// Root pre-rotation aligning the intrinsic plane with the reference plane.
     fn pre_rotation(&self) -> DQuat {
         frame_to_frame(self.u_r, self.w_r, self.u, self.w)
+    }
+}
+
+/// `DQuat::from_axis_angle(axis, angle)`, the same bits, without calling the C library's
+/// sine and cosine for a zero angle (the usual `twist`): `sin ±0 = ±0` and `cos ±0 = 1`.
+pub(super) fn axis_angle(axis: DVec3, angle: f64) -> DQuat {
+    if angle == 0.0 {
+        let v = axis * (angle * 0.5);
+        DQuat::from_xyzw(v.x, v.y, v.z, 1.0)
+    } else {
+        DQuat::from_axis_angle(axis, angle)
     }
 }
 
