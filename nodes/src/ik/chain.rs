@@ -470,9 +470,11 @@ impl Prepared {
 ///
 /// Identity when either is (near) zero. For opposite directions it is a half-turn about
 /// `fallback_axis` made perpendicular to `from` (or any perpendicular if that fails).
-/// Uses `atan2(|a x b|, a . b)` with the axis made exactly perpendicular to `from`,
-/// so tiny and near-opposite angles keep full precision (glam's `from_rotation_arc`
-/// rounds angles below ~2e-8 rad to zero).
+/// The angle `θ` between the directions is known by `s = |a x b|` and `d = a . b`; the
+/// quaternion needs only its half-angle cosine and sine, which [`half_angle`] takes from
+/// `s` and `d` without trigonometry. With the axis made exactly perpendicular to `from`,
+/// tiny and near-opposite angles keep full precision (glam's `from_rotation_arc` rounds
+/// angles below ~2e-8 rad to zero).
 pub(super) fn aim(from: DVec3, to: DVec3, fallback_axis: DVec3) -> DQuat {
     let (Some(a), Some(b)) = (from.try_normalize(), to.try_normalize()) else {
         return DQuat::IDENTITY;
@@ -489,7 +491,27 @@ pub(super) fn aim(from: DVec3, to: DVec3, fallback_axis: DVec3) -> DQuat {
     let axis = (axis - a * a.dot(axis))
         .try_normalize()
         .unwrap_or_else(|| a.any_orthonormal_vector());
-    DQuat::from_axis_angle(axis, crate::transform::trig::atan2(s, d))
+    let (cos_half, sin_half) = half_angle(s, d);
+    let v = axis * sin_half;
+    DQuat::from_xyzw(v.x, v.y, v.z, cos_half)
+}
+
+/// `(cos θ/2, sin θ/2)` of the angle `θ ∈ [0, π]` with `sin θ = s >= 0` and `cos θ = d`
+/// (`s² + d² = 1` up to rounding), without trigonometry.
+///
+/// `cos² θ/2 = (1 + d) / 2` and `sin² θ/2 = (1 - d) / 2`. Only the larger of the two is taken
+/// from that formula (its sum does not cancel); the smaller one follows from
+/// `sin θ = 2 sin θ/2 cos θ/2`, i.e. `s / (2 · larger)`, which keeps full relative precision
+/// for tiny `s` at either end (`θ` near 0 or near π). The result is unit length to within
+/// the rounding of `s² + d²` (`(1 + d)² + s² = 2 (1 + d)` when `s² + d² = 1`).
+pub(super) fn half_angle(s: f64, d: f64) -> (f64, f64) {
+    if d >= 0.0 {
+        let c = ((1.0 + d) * 0.5).sqrt();
+        (c, s * 0.5 / c)
+    } else {
+        let sn = ((1.0 - d) * 0.5).sqrt();
+        (s * 0.5 / sn, sn)
+    }
 }
 
 /// Rotation taking the orthonormal frame (`u0`, `w0`) onto (`u1`, `w1`) (both pairs unit, perpendicular).

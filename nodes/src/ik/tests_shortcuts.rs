@@ -1,11 +1,13 @@
 //! Tests of the arithmetic shortcuts of the solvers: the spline's chord points reused from the
-//! root search, and the zero-angle axis-angle quaternion, give the bits of the full computation.
+//! root search, and the zero-angle axis-angle quaternion, give the bits of the full computation;
+//! the aim rotation and the two-bone knee without trigonometry give the trigonometric ones.
 
 use glam::{DQuat, DVec3};
 
+use super::chain::aim;
 use super::curve::{ArcLengthTable, BSpline, Curve, CurveForm};
 use super::spline::next_on_curve;
-use super::two_bone::axis_angle;
+use super::two_bone::{axis_angle, law_of_cosines, start_cos};
 
 /// Curves of every kind the solver meets: open of degree 1 to 5, with repeated knots, periodic.
 fn curves() -> Vec<Curve> {
@@ -85,6 +87,101 @@ fn axis_angle_is_glams_from_axis_angle() {
     ] {
         for angle in [0.0, -0.0, 1e-300, -1e-12, 0.3, -2.5, std::f64::consts::PI] {
             assert_eq!(bits(axis_angle(axis, angle)), bits(DQuat::from_axis_angle(axis, angle)));
+        }
+    }
+}
+
+/// The aim rotation at angles 1e-12 and π - 1e-12 between `X` and `(±1, 1e-12, 0)` (both unit
+/// in binary64: `1 + 1e-24` rounds to 1). The exact angle is `atan(1e-12) = 1e-12 - 3e-37`
+/// (or π minus that), so the half-angle sine and cosine are, to far below an ulp,
+/// `(5e-13, 1)` and `(1, 5e-13)` (`sin x = x - x³/6`, `cos x = 1 - x²/2`): the quaternion
+/// about `Z` must be those to a few ulps, relative error included in the tiny component.
+#[test]
+fn aim_keeps_tiny_and_near_opposite_angles() {
+    let q = aim(DVec3::X, DVec3::new(1.0, 1e-12, 0.0), DVec3::Z);
+    assert_eq!((q.x, q.y, q.w), (0.0, 0.0, 1.0));
+    assert!((q.z / 5e-13 - 1.0).abs() < 4.0 * f64::EPSILON, "{q:?}");
+    let q = aim(DVec3::X, DVec3::new(-1.0, 1e-12, 0.0), DVec3::Z);
+    assert_eq!((q.x, q.y), (0.0, 0.0));
+    assert!((q.z - 1.0).abs() <= f64::EPSILON, "{q:?}");
+    assert!((q.w / 5e-13 - 1.0).abs() < 4.0 * f64::EPSILON, "{q:?}");
+    // The rotation takes the one direction onto the other: the tiny component of the image
+    // (1e-12 on Y, or -1 + O(1e-24) on X) to full relative precision.
+    let img = q * DVec3::X;
+    assert!((img.y / 1e-12 - 1.0).abs() < 8.0 * f64::EPSILON, "{img:?}");
+}
+
+/// The half-angle formulas against the trigonometric ones (`atan2`, then sine and cosine of
+/// half) over angles from 1e-9 to π - 1e-9 in many directions: the same quaternion to within a
+/// few ulps, unit length, and taking `from` onto `to`.
+#[test]
+fn aim_matches_the_trigonometric_rotation() {
+    let mut worst = 0.0f64;
+    for k in 0..2000 {
+        let x = k as f64;
+        let a = DVec3::new((x * 0.37).sin(), (x * 0.71).cos(), (x * 1.3).sin() + 0.1);
+        let b = DVec3::new((x * 0.53).cos(), (x * 0.29).sin() - 0.2, (x * 0.97).cos());
+        let (na, nb) = (a.normalize(), b.normalize());
+        let c = na.cross(nb);
+        let (s, d) = (c.length(), na.dot(nb));
+        let axis = c / s;
+        let axis = (axis - na * na.dot(axis)).normalize();
+        let reference = DQuat::from_axis_angle(axis, s.atan2(d));
+        let q = aim(a, b, DVec3::Z);
+        worst = worst.max((q - reference).length());
+        assert!((q.length() - 1.0).abs() < 4.0 * f64::EPSILON);
+        assert!((q * na).distance(nb) < 1e-15, "{k}");
+    }
+    assert!(worst < 4e-16, "{worst}");
+}
+
+/// Degenerate inputs: zero or non-finite vectors and equal directions give the identity;
+/// exactly opposite directions a half-turn (`w` exactly 0) about the fallback axis made
+/// perpendicular, or about some perpendicular when the fallback is parallel or zero.
+#[test]
+fn aim_degenerate_directions() {
+    let v = DVec3::new(0.3, -1.2, 0.5);
+    for (from, to) in [
+        (DVec3::ZERO, v),
+        (v, DVec3::ZERO),
+        (DVec3::NAN, v),
+        (v, DVec3::new(f64::INFINITY, 0.0, 0.0)),
+        (v, v * 3.0),
+    ] {
+        assert_eq!(aim(from, to, DVec3::Z), DQuat::IDENTITY);
+    }
+    for (v, fallback) in [
+        (v, DVec3::Z),
+        (v, DVec3::new(1.0, 1.0, 1.0)),
+        (v, DVec3::ZERO),
+        (DVec3::X, DVec3::X * 2.0),
+    ] {
+        let q = aim(v, -v * 2.0, fallback);
+        assert_eq!(q.w, 0.0);
+        assert!((q.length() - 1.0).abs() < 4.0 * f64::EPSILON);
+        assert!(q.xyz().dot(v).abs() < 1e-15, "axis perpendicular to from");
+        assert!((q * v).distance(-v) < 1e-15);
+    }
+    // The perpendicular part of the fallback is the axis.
+    let q = aim(DVec3::X, -DVec3::X, DVec3::new(0.5, 0.0, 1.0));
+    assert!(q.xyz().distance(DVec3::Z) < 1e-16, "{q:?}");
+}
+
+/// The two-bone knee's start angle by its cosine and sine: the cosine is the one whose `acos`
+/// is [`law_of_cosines`]' angle (bit for bit, the same expression), and the sine
+/// `sqrt((1 - c)(1 + c))` is `sin(acos c)` to an ulp, for folded, straight and degenerate
+/// triangles.
+#[test]
+fn two_bone_start_angle_by_cosine_and_sine() {
+    for (a, b) in [(1.0, 1.0), (2.0, 0.5), (0.3, 1.7), (1e-13, 1.0), (1.0, 1e-13)] {
+        for k in 0..=40 {
+            let d = (a + b) * (k as f64 / 36.0) - 0.05;
+            let c = start_cos(a, b, d);
+            let angle = law_of_cosines(a, b, d).0;
+            assert_eq!(c.acos().to_bits(), angle.to_bits());
+            let s = ((1.0 - c) * (1.0 + c)).sqrt();
+            assert!((s - angle.sin()).abs() <= 2.0 * f64::EPSILON, "{a} {b} {d}");
+            assert!((c - angle.cos()).abs() <= 2.0 * f64::EPSILON, "{a} {b} {d}");
         }
     }
 }

@@ -76,13 +76,17 @@ pub fn law_of_cosines(a: f64, b: f64, d: f64) -> (f64, f64) {
 
 /// The angle at the start of [`law_of_cosines`] alone (same bits), without the middle one.
 fn start_angle(a: f64, b: f64, d: f64) -> f64 {
+    start_cos(a, b, d).acos()
+}
+
+/// The cosine of [`start_angle`] (in `[-1, 1]`; 1 for degenerate sides).
+pub(super) fn start_cos(a: f64, b: f64, d: f64) -> f64 {
     let d = d.clamp((a - b).abs(), a + b);
-    let cos_start = if a > EPS && d > EPS {
+    if a > EPS && d > EPS {
         ((a * a + d * d - b * b) / (2.0 * a * d)).clamp(-1.0, 1.0)
     } else {
         1.0
-    };
-    cos_start.acos()
+    }
 }
 
 /// ikRP for exactly three joints (start, middle, end): exact law-of-cosines solve.
@@ -230,9 +234,12 @@ pub(super) fn solve_rotate_plane_into(
         straight_positions_into(p0, u, slen, targets);
     } else if n == 3 {
         let (la, lb) = (slen[0], slen[1]);
-        let start_angle = start_angle(la, lb, r.distance);
+        // The start angle by its cosine and sine (the angle is in [0, π]: the sine is
+        // `sqrt((1 - c)(1 + c))`, accurate at both ends), without `acos`, `cos` and `sin`.
+        let c = start_cos(la, lb, r.distance);
+        let s = ((1.0 - c) * (1.0 + c)).sqrt();
         let d = r.distance.clamp((la - lb).abs(), la + lb);
-        let knee = p0 + (u * start_angle.cos() + planes.w * start_angle.sin()) * la;
+        let knee = p0 + (u * c + planes.w * s) * la;
         targets.clear();
         targets.extend([p0, knee, p0 + u * d]);
     } else {
