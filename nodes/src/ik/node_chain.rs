@@ -287,7 +287,9 @@ impl ChainInputs {
 /// The element with logical index `index` of multi input `h` (which has `len` elements),
 /// looked up at position `k` first (the multis of a chain are usually aligned) and by search
 /// otherwise. Same value as `ctx.get_at(h, index)`: the chain multis' defaults are the values
-/// callers fall back to. With no element at all (`len` 0) there is nothing to look up.
+/// callers fall back to. With no element at all (`len` 0) there is nothing to look up (inlined,
+/// so that test costs no call).
+#[inline(always)]
 fn elem<T: AttrValue>(ctx: &ComputeContext<'_>, h: MultiInput<T>, len: usize, k: usize, index: u32) -> Option<T> {
     if len == 0 {
         return None;

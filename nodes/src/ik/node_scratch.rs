@@ -134,11 +134,19 @@ impl Default for EulerMemo {
 
 impl EulerMemo {
     /// `euler_to_quat(rad(degrees), order)`, from the memo when it holds that key.
+    #[inline(always)]
     pub fn quat(&mut self, degrees: DVec3, order: RotateOrder) -> DQuat {
         if degrees == DVec3::ZERO {
             // `euler_to_quat` skips exactly-zero angles (either sign): all zero is exactly identity.
+            // Tested inline (zero rest angles are common), the lookup out of line.
             return DQuat::IDENTITY;
         }
+        self.lookup(degrees, order)
+    }
+
+    /// [`Self::quat`] of angles that are not all zero.
+    #[inline(never)]
+    fn lookup(&mut self, degrees: DVec3, order: RotateOrder) -> DQuat {
         let key = [degrees.x.to_bits(), degrees.y.to_bits(), degrees.z.to_bits()];
         let h = (key[0] ^ key[1].rotate_left(21) ^ key[2].rotate_left(42) ^ order.index() as u64)
             .wrapping_mul(0x9e37_79b9_7f4a_7c15);

@@ -233,11 +233,10 @@ pub(super) fn solve_spline_into(
                     cparams.push(Some(spline.normalize_param(tn)));
                 }
                 None => {
-                    let q = extrapolate(spline, t, prev, *l, pos);
-                    overrun += if off_curve || spline.is_periodic() {
-                        *l
-                    } else {
-                        q.distance(spline.point(spline.domain().1))
+                    let (q, end) = extrapolate(spline, t, prev, *l, pos);
+                    overrun += match end {
+                        Some(end) if !off_curve => q.distance(end),
+                        _ => *l,
                     };
                     off_curve = true;
                     pos.push(q + shift);
@@ -365,8 +364,9 @@ fn chord_root(spline: &BSpline, from: DVec3, len: f64, lo: (f64, f64), hi: (f64,
 
 /// Places a joint `len` from `prev` past the end of an open curve, on the line through
 /// the curve's end along its end tangent; for periodic curves (no chord found within a
-/// loop), along the tangent at `t`.
-fn extrapolate(spline: &BSpline, t: f64, prev: DVec3, len: f64, pos: &[DVec3]) -> DVec3 {
+/// loop), along the tangent at `t`. Returns the joint and, for an open curve, the curve's end
+/// point `spline.point(spline.domain().1)` it used (`None` for a periodic curve).
+fn extrapolate(spline: &BSpline, t: f64, prev: DVec3, len: f64, pos: &[DVec3]) -> (DVec3, Option<DVec3>) {
     let back = if pos.len() >= 2 {
         pos[pos.len() - 1] - pos[pos.len() - 2]
     } else {
@@ -380,7 +380,7 @@ fn extrapolate(spline: &BSpline, t: f64, prev: DVec3, len: f64, pos: &[DVec3]) -
             .unwrap_or(DVec3::X)
     };
     if spline.is_periodic() {
-        return prev + tangent_at(t) * len;
+        return (prev + tangent_at(t) * len, None);
     }
     let end_t = spline.domain().1;
     let end = spline.point(end_t);
@@ -389,5 +389,5 @@ fn extrapolate(spline: &BSpline, t: f64, prev: DVec3, len: f64, pos: &[DVec3]) -
     let q = end - prev;
     let b = q.dot(dir);
     let disc = (b * b - q.length_squared() + len * len).max(0.0);
-    end + dir * (-b + disc.sqrt()).max(0.0)
+    (end + dir * (-b + disc.sqrt()).max(0.0), Some(end))
 }
