@@ -302,7 +302,16 @@ pub struct ArcLengthTable {
     params: Vec<f64>,
     points: Vec<DVec3>,
     lengths: Vec<f64>,
+    /// False after [`Self::rebuild_points`] until [`Self::fill_lengths`] (`lengths` is then empty).
+    lengths_ready: bool,
+    /// Every span's interpolation nodes are finite and at most `NODE_BOUND` in magnitude, so
+    /// every sample point is finite and no chord length is NaN (see [`Self::longer_than`]).
+    bounded: bool,
 }
+
+/// Largest node coordinate for which the Lagrange samples (weights under 7 in magnitude, at
+/// most 8 terms) and the chords between them cannot overflow to a NaN.
+const NODE_BOUND: f64 = 1e300;
 
 /// Lagrange weights of one degree `p`: `[s][j]` is the weight of the node at local
 /// parameter `j / p` for the sample at `s / SAMPLES_PER_SPAN`.
@@ -370,19 +379,32 @@ impl ArcLengthTable {
             params: Vec::new(),
             points: Vec::new(),
             lengths: Vec::new(),
+            lengths_ready: false,
+            bounded: false,
         }
     }
 
     /// [`Self::new`] into this table's buffers (no allocation once they are large enough).
     pub(super) fn rebuild(&mut self, spline: &BSpline) {
+        self.rebuild_points(spline);
+        self.fill_lengths();
+    }
+
+    /// The samples' parameters and points of [`Self::rebuild`], without the cumulative lengths:
+    /// until [`Self::fill_lengths`], only [`Self::params`], [`Self::points`],
+    /// [`Self::longer_than`] and [`Self::param_at`] at arc lengths `<= 0` may be used.
+    pub(super) fn rebuild_points(&mut self, spline: &BSpline) {
         self.params.clear();
         self.points.clear();
         self.lengths.clear();
+        self.lengths_ready = false;
+        self.bounded = false;
         let (a, b) = spline.domain();
         let p = spline.degree;
         self.params.push(a);
         let n_inv = 1.0 / SAMPLES_PER_SPAN as f64;
         if (1..=STACK_DEGREE).contains(&p) {
+            self.bounded = true;
             let weights = lagrange_weights(p);
             for (k, w) in spline.knots.windows(2).enumerate() {
                 let (k0, k1) = (w[0].max(a), w[1].min(b));
@@ -399,6 +421,8 @@ impl ArcLengthTable {
                     };
                     *node = local.eval(p, t);
                 }
+                // False for NaN too.
+                self.bounded &= nodes[..=p].iter().all(|n| n.abs().max_element() <= NODE_BOUND);
                 if self.points.is_empty() {
                     self.points.push(nodes[0]);
                 }
@@ -425,6 +449,16 @@ impl ArcLengthTable {
             }
             self.points = spline.sample(&self.params);
         }
+    }
+
+    /// The cumulative chord lengths of the samples ([`Self::rebuild`]'s second half); nothing
+    /// to do when they are there already.
+    pub(super) fn fill_lengths(&mut self) {
+        if self.lengths_ready {
+            return;
+        }
+        self.lengths_ready = true;
+        self.lengths.clear();
         let mut acc = 0.0;
         let mut prev = self.points.first().copied().unwrap_or(DVec3::ZERO);
         self.lengths.extend(self.points.iter().map(|&q| {
@@ -434,9 +468,31 @@ impl ArcLengthTable {
         }));
     }
 
+    /// True when the cumulative lengths are there ([`Self::rebuild`], or
+    /// [`Self::fill_lengths`] after [`Self::rebuild_points`]).
+    pub(super) fn has_lengths(&self) -> bool {
+        self.lengths_ready
+    }
+
     /// Total arc length of the curve.
     pub fn total(&self) -> f64 {
+        debug_assert!(self.lengths_ready, "ArcLengthTable::fill_lengths first");
         self.lengths.last().copied().unwrap_or(0.0)
+    }
+
+    /// `!(total.is_nan() || total <= eps)` for [`Self::total`] (`eps >= 0`), summing the
+    /// lengths only when the samples cannot tell.
+    ///
+    /// The total is a left-to-right sum of non-negative chords, so it is at least each of them
+    /// (rounding is monotonic) and NaN only if one is NaN. When the table is `bounded` no chord
+    /// is NaN, so one chord longer than `eps` (usually the first) decides.
+    pub(super) fn longer_than(&mut self, eps: f64) -> bool {
+        if self.bounded && self.points.windows(2).any(|w| w[1].distance(w[0]) > eps) {
+            return true;
+        }
+        self.fill_lengths();
+        let total = self.total();
+        !(total.is_nan() || total <= eps)
     }
 
     /// Sample parameters, from the domain start to its end.
@@ -451,7 +507,13 @@ impl ArcLengthTable {
 
     /// The parameter at arc length `s` (clamped to `[0, total]`), interpolated between samples.
     pub fn param_at(&self, s: f64) -> f64 {
-        let s = if s.is_finite() { s.clamp(0.0, self.total()) } else { 0.0 };
+        if !(s > 0.0 && s.is_finite()) {
+            // At or before the start (and for non-finite `s`, which counts as 0): the first
+            // sample's parameter, which the search below gives there (no length is below 0;
+            // `lengths[0]` is 0 or NaN), without reading the lengths.
+            return self.params[0];
+        }
+        let s = s.clamp(0.0, self.total());
         let i = self.lengths.partition_point(|&l| l < s).min(self.lengths.len() - 1);
         if i == 0 {
             return self.params[0];

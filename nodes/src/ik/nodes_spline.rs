@@ -143,10 +143,14 @@ impl IkSpline {
                     max_stretch: if max_stretch > 0.0 { max_stretch } else { f64::INFINITY },
                     root_on_curve: ctx.get(self.root_on_curve),
                 };
-                let (mut root, length) = solve_spline_into(chain, &curve, &params, &mut solvers.spline, sol);
-                if offset != 0.0 && !sol.is_invalid() {
+                // The curve's length is needed (and summed) only to turn a non-zero offset into
+                // an arc length.
+                let want_length = offset != 0.0;
+                let (mut root, length) =
+                    solve_spline_into(chain, &curve, &params, &mut solvers.spline, sol, want_length);
+                if want_length && !sol.is_invalid() {
                     params.offset = offset * length;
-                    (root, _) = solve_spline_into(chain, &curve, &params, &mut solvers.spline, sol);
+                    (root, _) = solve_spline_into(chain, &curve, &params, &mut solvers.spline, sol, false);
                 }
                 Some(root)
             }

@@ -87,7 +87,7 @@ pub struct SplineSolution {
 pub fn solve_spline(chain: &Chain, curve: &Curve, params: &SplineParams) -> SplineSolution {
     let mut scratch = SplineScratch::default();
     let mut solution = IkSolution::empty();
-    let (root_translate, curve_length) = solve_spline_into(chain, curve, params, &mut scratch, &mut solution);
+    let (root_translate, curve_length) = solve_spline_into(chain, curve, params, &mut scratch, &mut solution, true);
     SplineSolution {
         solution,
         root_translate,
@@ -127,13 +127,16 @@ impl Default for SplineScratch {
 
 /// [`solve_spline`] into reused buffers: the solution goes to `out` and the curve
 /// parameters to `s.cparams`; returns `(root_translate, curve_length)`. Same results as
-/// [`solve_spline`], bit for bit.
+/// [`solve_spline`], bit for bit, except that without `want_length` the curve length is
+/// summed only when the solve needs it (a periodic curve, a positive offset, stretch) and
+/// is NaN otherwise (still 0 when the input is invalid).
 pub(super) fn solve_spline_into(
     chain: &Chain,
     curve: &Curve,
     params: &SplineParams,
     s: &mut SplineScratch,
     out: &mut IkSolution,
+    want_length: bool,
 ) -> (DVec3, f64) {
     let SplineScratch {
         prep,
@@ -170,18 +173,28 @@ pub(super) fn solve_spline_into(
         return fail(IkError::Curve(msg));
     }
     let spline = &*spline;
-    table.rebuild(spline);
-    let table = &*table;
-    let total = table.total();
-    if total.is_nan() || total <= EPS {
+    // The samples first; their cumulative lengths only when something below reads them (the
+    // chord placement reads the samples alone): the zero-length test needs them only when the
+    // samples cannot tell (`longer_than`), an offset of 0 starts at the first sample.
+    table.rebuild_points(spline);
+    if !table.longer_than(EPS) {
         return fail(IkError::Curve("the curve has zero length".into()));
     }
     let lengths = &rest.lengths;
     let chain_len: f64 = lengths.iter().sum();
+    let stretch = params.stretch && chain_len > EPS;
+    if want_length || spline.is_periodic() || params.offset > 0.0 || stretch {
+        table.fill_lengths();
+    }
+    let table = &*table;
+    let total = if table.has_lengths() { table.total() } else { f64::NAN };
     let start_s = if spline.is_periodic() {
         params.offset.rem_euclid(total)
-    } else {
+    } else if params.offset > 0.0 {
         params.offset.clamp(0.0, total)
+    } else {
+        // `offset.clamp(0.0, total)` for `offset <= 0` and a total above 0 (either zero's sign kept).
+        params.offset.clamp(0.0, f64::INFINITY)
     };
     let t0 = table.param_at(start_s);
     let c0 = spline.point(t0);
@@ -198,7 +211,7 @@ pub(super) fn solve_spline_into(
     bone_scale.clear();
     bone_scale.resize(n, 1.0);
     let mut overrun = 0.0;
-    if params.stretch && chain_len > EPS {
+    if stretch {
         let remaining = if spline.is_periodic() { total } else { total - start_s };
         let s = (remaining / chain_len).min(params.max_stretch.max(0.0));
         let mut acc = start_s;

@@ -1,12 +1,14 @@
 //! Tests of the arithmetic shortcuts of the solvers: the spline's chord points reused from the
-//! root search, and the zero-angle axis-angle quaternion, give the bits of the full computation;
+//! root search, its curve length summed only when read, and the zero-angle axis-angle
+//! quaternion give the bits of the full computation;
 //! the aim rotation and the two-bone knee without trigonometry give the trigonometric ones.
 
-use glam::{DQuat, DVec3};
+use glam::{DMat4, DQuat, DVec3};
 
 use super::chain::aim;
+use super::chain::{Chain, ChainJoint, IkSolution};
 use super::curve::{ArcLengthTable, BSpline, Curve, CurveForm};
-use super::spline::next_on_curve;
+use super::spline::{next_on_curve, solve_spline, solve_spline_into, SplineParams, SplineScratch};
 use super::two_bone::{axis_angle, law_of_cosines, start_cos};
 
 /// Curves of every kind the solver meets: open of degree 1 to 5, with repeated knots, periodic.
@@ -182,6 +184,99 @@ fn two_bone_start_angle_by_cosine_and_sine() {
             let s = ((1.0 - c) * (1.0 + c)).sqrt();
             assert!((s - angle.sin()).abs() <= 2.0 * f64::EPSILON, "{a} {b} {d}");
             assert!((c - angle.cos()).abs() <= 2.0 * f64::EPSILON, "{a} {b} {d}");
+        }
+    }
+}
+
+/// Spline solves that skip summing the curve's length (no `want_length`, offset 0 or
+/// negative, with and without stretch, open and periodic curves, degrees 1 to 9) give the
+/// public solve's results bit for bit; the length is then NaN or the public one.
+#[test]
+fn spline_solves_without_the_length_give_the_full_results() {
+    let (mut scratch, mut out) = (SplineScratch::default(), IkSolution::empty());
+    let bits = |v: DVec3| v.to_array().map(f64::to_bits);
+    let mut checked = 0;
+    for (k, mut c) in curves().into_iter().enumerate() {
+        if k == 2 {
+            c.degree = 9;
+            c.points
+                .extend(c.points.clone().iter().map(|p| *p + DVec3::new(5.0, 0.0, 0.0)));
+        }
+        for n in [2usize, 4, 7] {
+            let mut joints = vec![ChainJoint::new(DVec3::new(0.1, 0.2, 0.0))];
+            joints.extend((1..n).map(|i| ChainJoint::new(DVec3::new(0.7 + 0.1 * i as f64, 0.0, 0.1))));
+            let chain = Chain {
+                parent_world: DMat4::from_translation(DVec3::new(0.3, -0.2, 0.1)),
+                joints,
+            };
+            for offset in [0.0, -0.0, -0.3, 0.4] {
+                for stretch in [false, true] {
+                    let params = SplineParams {
+                        offset,
+                        twist: 0.3,
+                        stretch,
+                        ..SplineParams::default()
+                    };
+                    let full = solve_spline(&chain, &c, &params);
+                    let (root, length) = solve_spline_into(&chain, &c, &params, &mut scratch, &mut out, false);
+                    assert_eq!(out.rotations.len(), full.solution.rotations.len());
+                    for (a, b) in out.rotations.iter().zip(&full.solution.rotations) {
+                        assert_eq!(a.to_array().map(f64::to_bits), b.to_array().map(f64::to_bits));
+                    }
+                    let scales = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                    assert_eq!(scales(&out.bone_scale), scales(&full.solution.bone_scale));
+                    assert_eq!(out.error.to_bits(), full.solution.error.to_bits());
+                    assert_eq!(out.status, full.solution.status);
+                    assert_eq!(bits(root), bits(full.root_translate));
+                    assert_eq!(scratch.cparams, full.curve_params);
+                    assert!(length.is_nan() || length.to_bits() == full.curve_length.to_bits());
+                    checked += 1;
+                }
+            }
+        }
+    }
+    assert!(checked > 100);
+}
+
+/// `longer_than` is the zero-length test of the total (`!(total.is_nan() || total <= eps)`)
+/// on curves long, tiny (around `eps`), collapsed to a point, with huge coordinates (the
+/// samples then do not decide), and of degree above the interpolated ones; and `param_at`
+/// of a start arc length (0, -0, negative, NaN, infinite) is the first sample's parameter
+/// without the lengths.
+#[test]
+fn length_test_and_start_parameter_without_the_lengths() {
+    let mut cases = curves();
+    let base = cases[3].clone();
+    for scale in [1e-9, 1e-12, 2e-14, 1e-15, 0.0, 1e299, 1e305] {
+        let mut c = base.clone();
+        c.points = c
+            .points
+            .iter()
+            .map(|p| *p * scale + DVec3::new(1.0, 2.0, 3.0) * (scale == 0.0) as u8 as f64)
+            .collect();
+        cases.push(c);
+    }
+    let mut c = base.clone();
+    c.degree = 8;
+    c.points.extend(c.points.clone());
+    cases.push(c);
+    for eps in [0.0, 1e-12, 1e-6] {
+        for c in &cases {
+            let spline = BSpline::new(c).unwrap();
+            let full = ArcLengthTable::new(&spline);
+            let total = full.total();
+            let mut lazy = ArcLengthTable::new(&spline);
+            lazy.rebuild_points(&spline);
+            for s in [0.0, -0.0, -1.0, f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+                assert_eq!(lazy.param_at(s).to_bits(), full.param_at(s).to_bits());
+            }
+            assert_eq!(
+                lazy.longer_than(eps),
+                !(total.is_nan() || total <= eps),
+                "{eps} {total}"
+            );
+            lazy.fill_lengths();
+            assert_eq!(lazy, full);
         }
     }
 }
