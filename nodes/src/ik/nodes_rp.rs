@@ -3,7 +3,7 @@
 use glam::{DMat4, DVec3};
 use sinew_core::{ComputeContext, ComputeError, Input, NodeSpec, NodeType, SpecBuilder, SpecError, Unit};
 
-use super::chain::{Chain, IkError, IkSolution};
+use super::chain::{mat_finite, Chain, IkError, IkSolution};
 use super::iterative::IterParams;
 use super::node_chain::{ChainInputs, ChainOutputs, ErrorKind, ErrorValue};
 use super::node_scratch::{with_node_scratch, Needed, NodeScratch, Solvers};
@@ -78,7 +78,7 @@ impl GoalInputs {
     /// Reads the goal inputs.
     pub fn read(&self, ctx: &ComputeContext<'_>) -> GoalRead {
         // Only the translation and finiteness of the matrix are used: read it in place.
-        let (goal, goal_finite) = ctx.with_ref(self.goal_matrix, |m| (m.w_axis.truncate(), m.is_finite()));
+        let (goal, goal_finite) = ctx.with_ref(self.goal_matrix, |m| (m.w_axis.truncate(), mat_finite(m)));
         let max_stretch = ctx.get(self.max_stretch);
         let soft = ctx.get(self.soft);
         let tolerance = ctx.get(self.tolerance);

@@ -6,7 +6,7 @@
 use glam::{DMat4, DQuat, DVec3};
 
 use super::chain::aim;
-use super::chain::{Chain, ChainJoint, IkSolution};
+use super::chain::{mat_finite, Chain, ChainJoint, IkSolution};
 use super::curve::{ArcLengthTable, BSpline, Curve, CurveForm};
 use super::spline::{next_on_curve, solve_spline, solve_spline_into, SplineParams, SplineScratch};
 use super::two_bone::{axis_angle, law_of_cosines, start_cos};
@@ -277,6 +277,24 @@ fn length_test_and_start_parameter_without_the_lengths() {
             );
             lazy.fill_lengths();
             assert_eq!(lazy, full);
+        }
+    }
+}
+
+/// `mat_finite` is glam's `is_finite` for matrices with a NaN, an infinity of either sign, a
+/// huge or subnormal element in each position, and for finite ones.
+#[test]
+fn branch_free_matrix_finiteness() {
+    let base = DMat4::from_cols_array(&[
+        1.0, -2.0, 0.5, 0.0, -0.0, 3.0, 1e300, 0.0, 5e-324, -1e-300, 1.0, 0.0, 4.0, -5.0, 6.0, 1.0,
+    ]);
+    assert!(mat_finite(&base) && base.is_finite());
+    for k in 0..16 {
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, f64::MAX, -f64::MAX] {
+            let mut a = base.to_cols_array();
+            a[k] = bad;
+            let m = DMat4::from_cols_array(&a);
+            assert_eq!(mat_finite(&m), m.is_finite(), "{k} {bad}");
         }
     }
 }
