@@ -98,7 +98,7 @@
 //! applies roll and twist (spline). Results depend only on inputs, never on the
 //! previous frame, so lazy and compiled evaluation agree bit for bit.
 //!
-//! Modules: [`chain`] (description, FK, blend, shared plumbing), [`soft`] (stretch
+//! Modules: [`chain`] (description, FK, blend, shared plumbing; small geometry in `geom`), [`soft`] (stretch
 //! and soft IK), [`two_bone`] (ikRP: analytic two-bone and longer rotate-plane
 //! chains), [`iterative`] (ikSC: FABRIK and CCD), [`curve`] (B-spline evaluation and arc
 //! length) and [`spline`] (ikSpline); node plugins in [`nodes_rp`], [`nodes_sc`],
@@ -109,6 +109,7 @@
 pub mod chain;
 pub mod curve;
 pub mod curve_node;
+mod geom;
 pub mod iterative;
 mod node_chain;
 mod node_pose;
