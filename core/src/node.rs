@@ -422,6 +422,40 @@ impl<'a> ComputeContext<'a> {
         }
     }
 
+    /// Writes the `k`-th existing element (in index order, as [`Self::multi_out_index`] numbers
+    /// them) of a multi output: what [`Self::set_at`] does for that element's logical index,
+    /// without searching for its position. Ignored past the end.
+    #[inline]
+    pub fn set_elem<T: AttrValue>(&mut self, h: MultiOutput<T>, k: usize, v: T) {
+        self.write(h.id(), k, v);
+    }
+
+    /// Every existing element of a multi input, in index order, as `(logical index, value)`,
+    /// into `out` (cleared first): [`Self::multi_at`] for each `k`, with the attribute looked
+    /// up once.
+    pub fn multi_read_into<T: AttrValue>(&self, h: MultiInput<T>, out: &mut Vec<(u32, T)>) {
+        out.clear();
+        if self.lazy.is_none() {
+            let Some(b) = self.attrs.get(h.id().index()) else {
+                return;
+            };
+            let first = b.first as usize;
+            let Some(elems) = self.tables.elems.get(first..first + b.len as usize) else {
+                return;
+            };
+            out.extend(elems.iter().map(|e| {
+                let v = self
+                    .tables
+                    .read(self.slots, e.binding)
+                    .unwrap_or_else(|| self.fallback(h.id()));
+                (e.index, v)
+            }));
+            return;
+        }
+        let n = self.elem_count(h.id());
+        out.extend((0..n).filter_map(|k| self.multi_at(h, k)));
+    }
+
     /// Mutable access to shared data on an output, reusing its buffer when no
     /// one else holds it (copy-on-write). Returns `None` when the output is not
     /// in the group being computed.

@@ -215,9 +215,14 @@ impl NodeType for SumMulti {
             k += 1;
         }
         ctx.set(self.out, sum);
+        // Even positions by logical index, odd ones by position (both write element k).
         for k in 0..ctx.multi_out_len(self.spread) {
             if let Some(i) = ctx.multi_out_index(self.spread, k) {
-                ctx.set_at(self.spread, i, sum * i as f64);
+                if k % 2 == 0 {
+                    ctx.set_at(self.spread, i, sum * i as f64);
+                } else {
+                    ctx.set_elem(self.spread, k, sum * i as f64);
+                }
             }
         }
         Ok(())
