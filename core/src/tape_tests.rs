@@ -142,3 +142,61 @@ proptest! {
         }
     }
 }
+
+/// Consecutive steps that are not taped run as one `Steps` item (one call), a tape between
+/// them splits the run, and the items cover every step once, in order.
+#[test]
+fn consecutive_steps_run_as_one_item() {
+    let mut g = Graph::new(crate::testing::registry().unwrap());
+    g.add_node("timeSource", "t").unwrap();
+    for n in ["v1", "v2", "v3"] {
+        g.add_node("vecScale", n).unwrap();
+    }
+    g.add_node("add", "a").unwrap();
+    g.set_path("v1.input", Value::Vec3(glam::DVec3::new(1.0, 2.0, 3.0)))
+        .unwrap();
+    g.connect_path("t.output", "v1.factor").unwrap();
+    g.connect_path("t.output", "v2.factor").unwrap();
+    g.connect_path("v1.output", "v2.input").unwrap();
+    g.connect_path("t.output", "a.input1").unwrap();
+    g.set_path("a.input2", Value::Float(0.5)).unwrap();
+    g.connect_path("a.output", "v3.factor").unwrap();
+    g.connect_path("v2.output", "v3.input").unwrap();
+    let program = Program::compile(&g, &CompileOptions::default()).unwrap();
+    let frame = &program.frame_schedule;
+    let mut covered = Vec::new();
+    for item in &frame.items {
+        match item {
+            Item::Steps { first, count } => covered.extend(*first..*first + *count),
+            Item::Tape { first, tape } => covered.extend(*first..*first + tape.ops.len() as u32),
+        }
+    }
+    assert_eq!(covered, (0..frame.steps.len() as u32).collect::<Vec<_>>());
+    // t, v1, v2 | a (taped) | v3: two runs of steps around one tape.
+    let shapes: Vec<&str> = frame
+        .items
+        .iter()
+        .map(|i| match i {
+            Item::Steps { .. } => "steps",
+            Item::Tape { .. } => "tape",
+        })
+        .collect();
+    assert_eq!(
+        shapes,
+        ["steps", "tape", "steps"],
+        "{:?}",
+        program.frame_step_names(false)
+    );
+    let mut inst = Instance::new(Arc::new(program));
+    inst.evaluate(Time::new(2.0, 24.0)).unwrap();
+    inst.evaluate(Time::new(3.0, 24.0)).unwrap();
+    g.set_time(Time::new(3.0, 24.0));
+    let h = inst.program().handle("v3.output").unwrap();
+    let lazy = g.get_path("v3.output").unwrap();
+    // (1, 2, 3) · 3 · 3 · (3 + 0.5) at frame 3.
+    assert!(
+        lazy.same_bits(&Value::Vec3(glam::DVec3::new(31.5, 63.0, 94.5))),
+        "{lazy:?}"
+    );
+    assert!(inst.get(&h).same_bits(&lazy), "{lazy:?}");
+}
