@@ -206,16 +206,20 @@ impl TransformParams {
         let rp = finite_or_zero(self.rotate_pivot);
         let scale = finite_or_one(self.scale);
         let shear = finite_or_zero(self.shear);
-        let scale_shear = if shear == DVec3::ZERO {
-            DMat3::from_diagonal(scale)
-        } else {
-            shear_mat3(shear) * DMat3::from_diagonal(scale)
-        };
         let rot = self.rotation_mat3();
-        let inner = finite_or_zero(self.scale_pivot_translate) + sp - rp - scale_shear * sp;
+        // Without shear `SS` is diagonal: its products scale columns (`SS·sp` per component,
+        // `R·SS` per column), the same values as the full products up to the sign of zeros.
+        let (ss_sp, linear) = if shear == DVec3::ZERO {
+            let linear = DMat3::from_cols(rot.x_axis * scale.x, rot.y_axis * scale.y, rot.z_axis * scale.z);
+            (scale * sp, linear)
+        } else {
+            let scale_shear = shear_mat3(shear) * DMat3::from_diagonal(scale);
+            (scale_shear * sp, rot * scale_shear)
+        };
+        let inner = finite_or_zero(self.scale_pivot_translate) + sp - rp - ss_sp;
         let translation =
             finite_or_zero(self.translate) + finite_or_zero(self.rotate_pivot_translate) + rp + rot * inner;
-        DMat4::from_mat3_translation(rot * scale_shear, translation)
+        DMat4::from_mat3_translation(linear, translation)
     }
 
     /// The node's rotation `RA` then `R` (Maya `RA·R`, glam `R * RA`) as a
