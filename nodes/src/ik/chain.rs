@@ -7,6 +7,7 @@ use std::fmt;
 
 use glam::{DMat4, DQuat, DVec3};
 
+use super::geom::is_identity;
 pub(super) use super::geom::{aim, frame_to_frame, mat_finite, straight_positions, straight_positions_into};
 pub(super) use super::rest_memo::RootFrame;
 
@@ -430,38 +431,51 @@ impl Prepared {
         // Work whose result cannot be used is skipped (same bits): the position and carried
         // frame past the last aimed joint, and the bone axis when there is no twist.
         // The start joint's frame and rest orientation are rest data (`self.root`, the same
-        // products with `qp` the identity and `out[0]` its rest rotation).
+        // products with `qp` the identity and `out[0]` its rest rotation). Products with the
+        // identity are skipped (a jointOrient or rotateAxis of zero degrees, the delta of a
+        // joint past the start before it aims): the same values up to the sign of zero
+        // components (see `is_identity`).
         for (i, j) in self.joints.iter().enumerate().take(n) {
+            let (orient_id, axis_id) = (is_identity(j.joint_orient), is_identity(j.rotate_axis));
+            let with_axis = |q: DQuat| if axis_id { q } else { q * j.rotate_axis };
             let frame = if i == 0 {
                 self.root.frame
+            } else if orient_id {
+                qp.normalize()
             } else {
                 (qp * j.joint_orient).normalize()
             };
-            let mut delta = if i == 0 { root_pre } else { DQuat::IDENTITY };
+            // The delta so far; `None` is the identity (every joint past the start before aiming).
+            let mut delta = (i == 0).then_some(root_pre);
             if let (Some(child), Some(&target)) = (self.joints.get(i + 1), targets.get(i + 1)) {
                 p += qp * j.translate;
                 let q = if i == 0 {
                     self.root.rest
                 } else {
-                    frame * out[i] * j.rotate_axis
+                    with_axis(frame * out[i])
                 };
-                let v = delta * q * child.translate;
+                let v = delta.map_or(q, |d| d * q) * child.translate;
                 let w = target - p;
-                delta = aim(v, w, fallback_axis) * delta;
+                let a = aim(v, w, fallback_axis);
+                let d = delta.map_or(a, |d| a * d);
+                delta = Some(d);
                 if twist.is_some() {
-                    if let Some(a) = (delta * q * child.translate).try_normalize() {
+                    if let Some(a) = (d * q * child.translate).try_normalize() {
                         axis = a;
                     }
                 }
             }
             if let Some(&angle) = twist.and_then(|t| t.get(i)) {
                 if angle != 0.0 && axis != DVec3::ZERO {
-                    delta = DQuat::from_axis_angle(axis, angle) * delta;
+                    let r = DQuat::from_axis_angle(axis, angle);
+                    delta = Some(delta.map_or(r, |d| r * d));
                 }
             }
-            out[i] = (frame.inverse() * delta * frame * out[i]).normalize();
+            let inv = frame.inverse();
+            let turned = delta.map_or(inv, |d| inv * d);
+            out[i] = (turned * frame * out[i]).normalize();
             if i + 1 < n {
-                qp = (frame * out[i] * j.rotate_axis).normalize();
+                qp = with_axis(frame * out[i]).normalize();
             }
         }
     }

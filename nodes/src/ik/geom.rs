@@ -1,6 +1,6 @@
 //! Small geometry the solvers share: the minimal (aim) rotation between two directions without
 //! trigonometry, the rotation between two orthonormal frames, positions along a straight line,
-//! and a branch-free finiteness test for matrices.
+//! a branch-free finiteness test for matrices, and an exact test for the identity quaternion.
 
 use glam::{DMat3, DMat4, DQuat, DVec3, DVec4};
 
@@ -12,6 +12,14 @@ pub(super) fn mat_finite(m: &DMat4) -> bool {
         acc += c * 0.0;
     }
     acc.element_sum() == 0.0
+}
+
+/// True when `q` is exactly glam's `DQuat::IDENTITY` (`+0, +0, +0, +1`), the value a unit
+/// jointOrient or rotateAxis of zero degrees has. A product with it is the other factor up to
+/// the sign of its zero components (glam's sums of `±0` terms can turn `-0` into `+0`) and,
+/// for a non-finite factor, which components are NaN; solvers skip such products.
+pub(super) fn is_identity(q: DQuat) -> bool {
+    q.to_array().map(f64::to_bits) == DQuat::IDENTITY.to_array().map(f64::to_bits)
 }
 
 /// Minimal rotation taking direction `from` onto direction `to`.

@@ -9,6 +9,7 @@ use sinew_core::{CompileOptions, Instance, Program, Time, Value};
 
 use super::chain::{aim, Chain, ChainJoint, IkSolution, Prepared};
 use super::curve::{ArcLengthTable, BSpline, Curve, CurveForm};
+use super::geom::is_identity;
 use super::iterative::IterParams;
 use super::node_chain::{rad, ChainRead, JointData};
 use super::node_scratch::{EulerMemo, Needed};
@@ -346,6 +347,75 @@ fn rotations_reference(prep: &Prepared, targets: &[DVec3], root_pre: DQuat, twis
         }
     }
     out
+}
+
+#[test]
+fn the_identity_test_is_exact() {
+    // Prepared zero-degree jointOrient and rotateAxis are the identity; a -0 component is not
+    // (its products are computed).
+    let prep = Prepared::new(&random_chain(&mut Lcg(1), 2)).unwrap();
+    assert!(is_identity(DQuat::IDENTITY) && is_identity(prep.joints[1].rotate_axis));
+    assert!(!is_identity(DQuat::from_xyzw(-0.0, 0.0, 0.0, 1.0)));
+    assert!(!is_identity(DQuat::from_xyzw(0.0, 0.0, 0.0, 1.0 + f64::EPSILON)));
+}
+
+#[test]
+fn identity_products_skipped_give_the_values_of_the_full_loop() {
+    // Planar chains (every rotation about Z: quaternions with exactly zero x and y, where a
+    // skipped product could change a zero's sign), identity jointOrient and rotateAxis (exact,
+    // with -0 components, or about Z), targets in and out of the plane, along a bone (aim is the
+    // identity) and behind it (a half-turn), each with and without twist (zeros included). The
+    // values are the full loop's; only a zero's sign may differ (compared with `==`).
+    let mut rng = Lcg(41);
+    let about_z = |a: f64| DQuat::from_rotation_z(a);
+    let signed_identity = DQuat::from_xyzw(-0.0, 0.0, -0.0, 1.0);
+    for case in 0..48 {
+        let n = 2 + case % 4;
+        let pick = |rng: &mut Lcg, k: usize| match (case / 4 + k) % 4 {
+            0 => DQuat::IDENTITY,
+            1 => signed_identity,
+            2 => about_z(rng.f(-2.0, 2.0)),
+            _ => rng.q(),
+        };
+        let joints: Vec<ChainJoint> = (0..n)
+            .map(|k| ChainJoint {
+                translate: DVec3::new(rng.f(0.5, 2.0), rng.f(-0.5, 0.5), 0.0),
+                joint_orient: pick(&mut rng, k),
+                rotate_axis: pick(&mut rng, k + 1),
+                preferred: if k % 2 == 0 {
+                    DQuat::IDENTITY
+                } else {
+                    about_z(rng.f(-1.0, 1.0))
+                },
+            })
+            .collect();
+        let chain = Chain {
+            parent_world: DMat4::IDENTITY,
+            joints,
+        };
+        let prep = Prepared::new(&chain).unwrap();
+        let (rest, _) = prep.fk(&prep.rest_rot);
+        let targets: Vec<DVec3> = match case % 4 {
+            0 => rest.clone(),
+            1 => rest.iter().map(|p| DVec3::new(p.y, -p.x, 0.0)).collect(),
+            2 => rest.iter().map(|p| -*p).collect(),
+            _ => rest.iter().map(|p| *p + rng.v(1.0)).collect(),
+        };
+        let root_pre = if case % 3 == 0 {
+            DQuat::IDENTITY
+        } else {
+            about_z(rng.f(-3.0, 3.0))
+        };
+        let twist: Vec<f64> = (0..n)
+            .map(|k| if k % 2 == 0 { 0.0 } else { rng.f(-2.0, 2.0) })
+            .collect();
+        for tw in [None, Some(&twist[..])] {
+            let mut out = Vec::new();
+            prep.rotations_from_positions_into(&targets, root_pre, DVec3::Z, tw, usize::MAX, &mut out);
+            let want = rotations_reference(&prep, &targets, root_pre, tw);
+            assert_eq!(out, want, "case {case} twist {}", tw.is_some());
+        }
+    }
 }
 
 #[test]
