@@ -446,19 +446,19 @@ impl ChainOutputs {
         for k in 0..ctx.multi_out_len(self.out_rotate) {
             if let Some(index) = ctx.multi_out_index(self.out_rotate, k) {
                 let v = slot(index).map_or(DVec3::ZERO, |i| pose.rotate[i]);
-                ctx.set_at(self.out_rotate, index, v);
+                ctx.set_elem(self.out_rotate, k, v);
             }
         }
         for k in 0..ctx.multi_out_len(self.out_translate) {
             if let Some(index) = ctx.multi_out_index(self.out_translate, k) {
                 let v = slot(index).map_or(DVec3::ZERO, |i| pose.translate[i]);
-                ctx.set_at(self.out_translate, index, v);
+                ctx.set_elem(self.out_translate, k, v);
             }
         }
         for k in 0..ctx.multi_out_len(self.out_stretch) {
             if let Some(index) = ctx.multi_out_index(self.out_stretch, k) {
                 let v = slot(index).map_or(1.0, |i| pose.stretch[i]);
-                ctx.set_at(self.out_stretch, index, v);
+                ctx.set_elem(self.out_stretch, k, v);
             }
         }
         ctx.set(self.status, pose.status);
