@@ -43,17 +43,7 @@ fn biped(c: &mut Criterion) {
 
     // What an engine compiles: only the joints' world matrices are observed, so steps nobody
     // reads (unconnected inverse matrices...) are left out.
-    let observed: Vec<Plug> = joints.iter().map(|j| graph.plug(j).expect("plug")).collect();
-    let pruned = Arc::new(
-        Program::compile(
-            &graph,
-            &CompileOptions {
-                observed: Some(observed),
-                ..Default::default()
-            },
-        )
-        .expect("compile"),
-    );
+    let pruned = compile_pruned(&graph, &joints);
     eprintln!(
         "biped pruned: {} run per frame, {:?} while the arms stay in FK",
         pruned.frame_step_count(),
@@ -75,17 +65,7 @@ fn biped(c: &mut Criterion) {
     for s in arm_switches {
         graph.set_path(s, Value::Float(1.0)).expect("set");
     }
-    let observed_ik: Vec<Plug> = joints.iter().map(|j| graph.plug(j).expect("plug")).collect();
-    let pruned_for_ik = Arc::new(
-        Program::compile(
-            &graph,
-            &CompileOptions {
-                observed: Some(observed_ik),
-                ..Default::default()
-            },
-        )
-        .expect("compile"),
-    );
+    let pruned_for_ik = compile_pruned(&graph, &joints);
     for s in arm_switches {
         graph.set_path(s, Value::Float(0.0)).expect("set");
     }
@@ -127,6 +107,16 @@ fn biped(c: &mut Criterion) {
         })
     });
     g.finish();
+}
+
+/// `graph` compiled with only `observed` (plug paths) observed.
+fn compile_pruned(graph: &Graph, observed: &[String]) -> Arc<Program> {
+    let observed: Vec<Plug> = observed.iter().map(|j| graph.plug(j).expect("plug")).collect();
+    let options = CompileOptions {
+        observed: Some(observed),
+        ..Default::default()
+    };
+    Arc::new(Program::compile(graph, &options).expect("compile"))
 }
 
 /// Times the cases in turn, one 48-frame cycle each (after one untimed cycle, so caches are
