@@ -5,11 +5,11 @@ use glam::{DMat3, DMat4, DQuat, DVec3};
 use sinew_core::{ComputeContext, ComputeError, Input, NodeSpec, NodeType, Output, SpecError, Unit};
 
 use super::common::{
-    declare_parent_inverse, local_rotation, offset_quat, parent_world, weighted_position, Channel, ChildPivot,
-    ChildRotation, Targets, INTERP_TYPES,
+    declare_parent_inverse, local_rotation, parent_world, weighted_position, Channel, ChildPivot, ChildRotation,
+    Targets, INTERP_TYPES,
 };
-use super::rotation_path::{blend_rotation_mat3, local_rotation_mat3};
-use crate::transform::math::{aim_matrix, orthonormalize};
+use super::rotation_path::{blend_rotation_mat3, local_rotation_mat3, with_offset};
+use crate::transform::math::aim_matrix;
 
 /// Maya's `worldUpType` choices, in enum order (index 3, `vector`, is the
 /// default, as the `aimConstraint` command creates it).
@@ -216,7 +216,7 @@ impl AimConstraint {
             }
             _ => wu,
         };
-        orthonormalize(DMat3::from_mat4(pim) * aim_matrix(from, target, aim, up, world_up))
+        local_rotation_mat3(&pim, aim_matrix(from, target, aim, up, world_up), DVec3::ZERO)
     }
 }
 
@@ -231,12 +231,7 @@ impl NodeType for AimConstraint {
         let rest = self.rotate.rest(ctx);
         let off = ctx.get(self.offset);
         let r = weighted_position(&ts).map(|target| {
-            let local = self.aim_local(ctx, pim, target);
-            let local = if off == DVec3::ZERO {
-                local
-            } else {
-                local * DMat3::from_quat(offset_quat(off))
-            };
+            let local = with_offset(self.aim_local(ctx, pim, target), off);
             self.rotation.rotate_deg_mat3(ctx, &local, rest)
         });
         let r = self.rotate.apply(ctx, r);

@@ -33,12 +33,17 @@ pub(crate) fn blend_rotation_mat3(ts: &[Target], interp: i64) -> Option<DMat3> {
 /// node's own frame) as a rotation matrix: the rotation part of glam
 /// `parentInverseMatrix₃ * world * R(offset)`.
 pub(crate) fn local_rotation_mat3(parent_inverse: &DMat4, world: DMat3, offset_deg: DVec3) -> DMat3 {
-    let world = if offset_deg == DVec3::ZERO {
-        world
+    orthonormalize(DMat3::from_mat4(*parent_inverse) * with_offset(world, offset_deg))
+}
+
+/// `rot` followed by the constraint's `offset` (xyz degrees) in the node's own frame:
+/// `rot * R(offset)`, and `rot` itself (no product) for a zero offset.
+pub(crate) fn with_offset(rot: DMat3, offset_deg: DVec3) -> DMat3 {
+    if offset_deg == DVec3::ZERO {
+        rot
     } else {
-        world * DMat3::from_quat(offset_quat(offset_deg))
-    };
-    orthonormalize(DMat3::from_mat4(*parent_inverse) * world)
+        rot * DMat3::from_quat(offset_quat(offset_deg))
+    }
 }
 
 impl ChildRotation {
