@@ -193,13 +193,7 @@ impl Common {
     /// the product when the offset is exactly the identity (its default; compared bit for bit).
     fn with_parent_world<R>(&self, ctx: &ComputeContext<'_>, f: impl FnOnce(&DMat4) -> R) -> R {
         ctx.with_ref(self.parent_matrix, |parent| {
-            ctx.with_ref(self.offset_parent_matrix, |offset| {
-                if is_identity_bits(offset) {
-                    f(parent)
-                } else {
-                    f(&mul_affine(parent, offset))
-                }
-            })
+            ctx.with_ref(self.offset_parent_matrix, |offset| parent_world(parent, offset, f))
         })
     }
 
@@ -239,10 +233,16 @@ impl Common {
 /// `parent · offset · matrix`, the offset skipped when it is exactly the identity (its
 /// default; compared bit for bit). The world group's compute and its [`MatrixKernel`].
 fn world_matrix(parent: &DMat4, offset: &DMat4, m: &DMat4) -> DMat4 {
+    parent_world(parent, offset, |pw| mul_affine(pw, m))
+}
+
+/// Calls `f` with `parent · offset`, the product skipped when `offset` is exactly the identity.
+#[inline(always)]
+fn parent_world<R>(parent: &DMat4, offset: &DMat4, f: impl FnOnce(&DMat4) -> R) -> R {
     if is_identity_bits(offset) {
-        mul_affine(parent, m)
+        f(parent)
     } else {
-        mul_affine(&mul_affine(parent, offset), m)
+        f(&mul_affine(parent, offset))
     }
 }
 
