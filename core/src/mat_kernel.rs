@@ -77,11 +77,6 @@ impl MatrixKernel {
             f,
         })
     }
-
-    /// Applies the function, as both evaluation modes do.
-    pub fn apply(&self, a: &DMat4, b: &DMat4, c: &DMat4) -> DMat4 {
-        (self.f)(a, b, c)
-    }
 }
 
 /// A [`MatrixKernel`] bound to the matrix slots of one compiled step.
