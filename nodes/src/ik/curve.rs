@@ -301,9 +301,9 @@ fn de_boor_in_place(p: usize, knots: &[f64], k: usize, t: f64, d: &mut [DVec3]) 
 pub struct ArcLengthTable {
     params: Vec<f64>,
     points: Vec<DVec3>,
+    /// One cumulative length per point once [`Self::fill_lengths`] ran; empty after
+    /// [`Self::rebuild_points`] until then.
     lengths: Vec<f64>,
-    /// False after [`Self::rebuild_points`] until [`Self::fill_lengths`] (`lengths` is then empty).
-    lengths_ready: bool,
     /// Every span's interpolation nodes are finite and at most `NODE_BOUND` in magnitude, so
     /// every sample point is finite and no chord length is NaN (see [`Self::longer_than`]).
     bounded: bool,
@@ -379,7 +379,6 @@ impl ArcLengthTable {
             params: Vec::new(),
             points: Vec::new(),
             lengths: Vec::new(),
-            lengths_ready: false,
             bounded: false,
         }
     }
@@ -397,7 +396,6 @@ impl ArcLengthTable {
         self.params.clear();
         self.points.clear();
         self.lengths.clear();
-        self.lengths_ready = false;
         self.bounded = false;
         let (a, b) = spline.domain();
         let p = spline.degree;
@@ -454,10 +452,9 @@ impl ArcLengthTable {
     /// The cumulative chord lengths of the samples ([`Self::rebuild`]'s second half); nothing
     /// to do when they are there already.
     pub(super) fn fill_lengths(&mut self) {
-        if self.lengths_ready {
+        if self.has_lengths() {
             return;
         }
-        self.lengths_ready = true;
         self.lengths.clear();
         let mut acc = 0.0;
         let mut prev = self.points.first().copied().unwrap_or(DVec3::ZERO);
@@ -471,12 +468,12 @@ impl ArcLengthTable {
     /// True when the cumulative lengths are there ([`Self::rebuild`], or
     /// [`Self::fill_lengths`] after [`Self::rebuild_points`]).
     pub(super) fn has_lengths(&self) -> bool {
-        self.lengths_ready
+        self.lengths.len() == self.points.len()
     }
 
     /// Total arc length of the curve.
     pub fn total(&self) -> f64 {
-        debug_assert!(self.lengths_ready, "ArcLengthTable::fill_lengths first");
+        debug_assert!(self.has_lengths(), "ArcLengthTable::fill_lengths first");
         self.lengths.last().copied().unwrap_or(0.0)
     }
 
