@@ -8,10 +8,11 @@
 use std::sync::Arc;
 
 pub use sinew_core as core;
+/// Interchange file formats (glTF, BVH, OBJ) and their mapping to rigs: the `sinew-io` crate.
+pub use sinew_io as io;
 pub use sinew_nodes as nodes;
 
 pub mod cli;
-pub mod io;
 pub mod prelude;
 
 /// A registry with every standard node type.

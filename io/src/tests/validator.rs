@@ -7,11 +7,11 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use super::assets_dir;
-use crate::io::gltf_read::read_gltf;
-use crate::io::gltf_write::{write_glb, write_gltf_embedded};
+use crate::gltf_read::read_gltf;
+use crate::gltf_write::{write_glb, write_gltf_embedded};
 
 fn tool_dir() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tools/validate-gltf")
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../tools/validate-gltf")
 }
 
 /// The validator script, installing its npm dependency if needed; `None` means skip.

@@ -4,7 +4,7 @@ use glam::{DMat3, DVec3};
 use proptest::prelude::*;
 
 use super::assets_dir;
-use crate::io::bvh::{parse_bvh, Axis, Channel};
+use crate::bvh::{parse_bvh, Axis, Channel};
 
 const TINY: &str = "HIERARCHY\r\nROOT hips\n{\r\n\tOFFSET 0 0 0\n\tCHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\r\n\
 \tJOINT spine\n\t{\n\t\tOFFSET 0 10 0\r\n\t\tCHANNELS 3 Zrotation Xrotation Yrotation\n\t\tEnd Site\n\t\t{\n\t\t\tOFFSET 0 5 0\n\t\t}\n\t}\n\

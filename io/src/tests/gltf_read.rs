@@ -5,8 +5,8 @@ use glam::{Mat4, Quat, Vec3};
 use serde_json::{json, Value};
 
 use super::assets_dir;
-use crate::io::gltf_read::{read_gltf, read_gltf_slice};
-use crate::io::scene::*;
+use crate::gltf_read::{read_gltf, read_gltf_slice};
+use crate::scene::*;
 
 /// Builds a `.gltf` JSON document with one embedded buffer, accessor by accessor.
 #[derive(Default)]

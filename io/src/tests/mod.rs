@@ -11,7 +11,7 @@ mod validator;
 
 /// The shared third-party assets folder, or `None` (after printing why) when absent.
 pub(super) fn assets_dir() -> Option<PathBuf> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/assets");
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/assets");
     if dir.is_dir() {
         Some(dir)
     } else {

@@ -4,9 +4,9 @@
 use glam::{Mat4, Quat, Vec2, Vec3};
 
 use super::assets_dir;
-use crate::io::gltf_read::{read_gltf, read_gltf_slice};
-use crate::io::gltf_write::{write_glb, write_gltf_embedded};
-use crate::io::scene::*;
+use crate::gltf_read::{read_gltf, read_gltf_slice};
+use crate::gltf_write::{write_glb, write_gltf_embedded};
+use crate::scene::*;
 use sinew_core::data::{Mesh, Weights};
 
 /// A two-triangle skinned strip on a chain of six joints: vertex 0 has six influences
