@@ -2,12 +2,11 @@
 //! CSV or JSON lines.
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::Arc;
 
-use sinew_core::rig::parse::parse;
-use sinew_core::rig::typed::read_value;
-use sinew_core::{CompileOptions, Graph, Instance, Plug, Program, Registry, Time, Value};
+pub use sinew_core::rig::typed::parse_plug_value;
+use sinew_core::{CompileOptions, Instance, Plug, Program, Registry, Time, Value};
 
 use super::frames::{parse_frames, FrameRange};
 use super::rig_cmds::load;
@@ -40,19 +39,6 @@ pub struct EvalRequest {
     pub lazy: bool,
 }
 
-/// Parses `text` as a value for `plug` (RON syntax, as in rig files).
-pub fn parse_plug_value(graph: &Graph, plug: Plug, text: &str) -> Result<Value, String> {
-    let ty = graph.plug_type(plug).map_err(|e| e.to_string())?;
-    let spec = graph.node_spec(plug.node).ok_or("stale node")?;
-    let attr = (plug.component.is_none()).then(|| spec.attr(plug.attr));
-    let file: Arc<Path> = Arc::from(Path::new("<--set>"));
-    let node = parse(text, &file).map_err(|d| format!("cannot parse {text:?}: {}", d.message))?;
-    read_value(&node, ty, attr, &graph.plug_name(plug)).map_err(|d| match d.hint {
-        Some(h) => format!("{} ({h})", d.message),
-        None => d.message,
-    })
-}
-
 fn flatten(v: &Value) -> Vec<String> {
     match v {
         Value::Vec3(x) => x.to_array().iter().map(|c| format!("{c:?}")).collect(),
@@ -80,6 +66,11 @@ fn json_value(v: &Value) -> serde_json::Value {
         Value::Vec3(x) => serde_json::json!(x.to_array()),
         Value::Quat(q) => serde_json::json!(q.to_array()),
         Value::Matrix(m) => serde_json::json!(m.to_cols_array()),
+        // Deformed geometry: the vertex positions, x y z per vertex (f32 values, exact in JSON).
+        Value::Mesh(m) => serde_json::json!({
+            "vertices": m.positions.len(),
+            "positions": m.positions.iter().flat_map(|p| p.to_array()).collect::<Vec<f32>>(),
+        }),
         other => serde_json::json!(other.to_string()),
     }
 }
