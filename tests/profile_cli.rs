@@ -24,14 +24,26 @@ fn groups() -> Vec<(String, usize)> {
     let g = &rig.graph;
     g.nodes()
         .into_iter()
-        .map(|n| (g.node_name(n).unwrap().to_string(), g.node_spec(n).unwrap().groups().len()))
+        .map(|n| {
+            (
+                g.node_name(n).unwrap().to_string(),
+                g.node_spec(n).unwrap().groups().len(),
+            )
+        })
         .collect()
 }
 
 #[test]
 fn profile_counts_steps_and_writes_a_trace() {
     let trace = std::env::temp_dir().join(format!("sinew-trace-{}.json", std::process::id()));
-    let (ok, out, err) = run(&["profile", STRIP, "--frames", "1..=10", "--trace", trace.to_str().unwrap()]);
+    let (ok, out, err) = run(&[
+        "profile",
+        STRIP,
+        "--frames",
+        "1..=10",
+        "--trace",
+        trace.to_str().unwrap(),
+    ]);
     assert!(ok, "{err}");
     assert!(out.contains("10 frames"), "{out}");
     // `root` reads nothing time-dependent: its groups run once, in the first (full) frame.
@@ -41,13 +53,21 @@ fn profile_counts_steps_and_writes_a_trace() {
     assert_eq!(row.split_whitespace().nth(2), Some(root.to_string().as_str()), "{row}");
     // The skin follows the bending joint: at least once per frame.
     let skin = out.lines().find(|l| l.starts_with("skin (skinCluster)")).expect(&out);
-    assert!(skin.split_whitespace().nth(2).unwrap().parse::<u64>().unwrap() >= 10, "{skin}");
+    assert!(
+        skin.split_whitespace().nth(2).unwrap().parse::<u64>().unwrap() >= 10,
+        "{skin}"
+    );
     // The trace: four frame slices, and the first frame has one slice per compute group.
     let doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&trace).unwrap()).unwrap();
     let events = doc["traceEvents"].as_array().unwrap();
-    assert!(events.iter().all(|e| e["ph"] == "X" && e["dur"].as_f64().unwrap() >= 0.0));
+    assert!(events
+        .iter()
+        .all(|e| e["ph"] == "X" && e["dur"].as_f64().unwrap() >= 0.0));
     assert_eq!(events.iter().filter(|e| e["cat"] == "frame").count(), 4);
-    let first = events.iter().filter(|e| e["cat"] != "frame" && e["args"]["frame"] == 1).count();
+    let first = events
+        .iter()
+        .filter(|e| e["cat"] != "frame" && e["args"]["frame"] == 1)
+        .count();
     assert_eq!(first, groups.iter().map(|g| g.1).sum::<usize>());
     let _ = std::fs::remove_file(&trace);
     // Bad input: a clear error.
@@ -60,7 +80,11 @@ fn profile_counts_steps_and_writes_a_trace() {
 fn graph_svg_and_html_show_every_node_and_connection() {
     let (ok, svg, err) = run(&["graph", STRIP, "--svg"]);
     assert!(ok, "{err}");
-    assert!(svg.starts_with("<?xml") && svg.contains("<svg"), "{}", &svg[..100.min(svg.len())]);
+    assert!(
+        svg.starts_with("<?xml") && svg.contains("<svg"),
+        "{}",
+        &svg[..100.min(svg.len())]
+    );
     for (n, _) in groups() {
         assert!(svg.contains(&format!("data-node=\"{n}\"")), "{n} missing");
     }
