@@ -17,6 +17,7 @@
 
 mod assemble;
 mod build;
+mod canon;
 pub mod diag;
 pub mod doc;
 mod doc_print;
@@ -31,6 +32,8 @@ pub mod typed;
 mod tests;
 #[cfg(test)]
 mod tests_fuzz;
+#[cfg(test)]
+mod tests_names;
 
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
