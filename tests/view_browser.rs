@@ -462,11 +462,12 @@ fn viewer_in_headless_chromium() {
         .output()
         .unwrap();
     let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    // Positions as [x, y, z] per vertex, each f32 in its shortest decimal form.
     let want: Vec<f32> = v["values"]["skin.outputGeometry"]["positions"]
         .as_array()
         .unwrap()
         .iter()
-        .map(|x| x.as_f64().unwrap() as f32)
+        .flat_map(|p| p.as_array().unwrap().iter().map(|x| x.as_f64().unwrap() as f32))
         .collect();
     assert_eq!(drawn, want);
     // Closed form: the tip vertex (-0.2, 1, 0), fully on the tip joint, turned 60° about Z

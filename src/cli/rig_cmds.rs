@@ -8,6 +8,7 @@ use std::sync::Arc;
 use sinew_core::rig::{rig_dependencies, to_dot, to_json, LoadedRig};
 use sinew_core::Registry;
 
+use super::output::{CliError, Output};
 use crate::io::mesh_file::{format_rig_file, load_rig};
 
 /// Loads a rig (with mesh `File(..)` references resolved) or returns its
@@ -37,7 +38,12 @@ pub fn check(path: &Path, registry: &Arc<Registry>) -> Result<String, String> {
 /// `sinew check --watch RIG`: re-validates whenever the rig or any component or data
 /// file it uses changes (file events through [`super::watch::FileWatcher`]). Runs until
 /// interrupted, or for `max_runs` validations when given.
-pub fn watch(path: &Path, registry: &Arc<Registry>, max_runs: Option<usize>) -> Result<(), String> {
+pub fn watch(
+    path: &Path,
+    registry: &Arc<Registry>,
+    max_runs: Option<usize>,
+    out: &mut Output<'_>,
+) -> Result<(), CliError> {
     let mut watcher = super::watch::FileWatcher::new()?;
     let mut runs = 0;
     loop {
@@ -46,22 +52,18 @@ pub fn watch(path: &Path, registry: &Arc<Registry>, max_runs: Option<usize>) -> 
         match load(path, registry) {
             Ok(rig) => {
                 files.extend(rig.document.referenced_files());
-                println!(
-                    "{} ({:.1} ms)",
-                    summary(path, &rig),
-                    started.elapsed().as_secs_f64() * 1000.0
-                );
+                let ms = started.elapsed().as_secs_f64() * 1000.0;
+                out.text(&format!("{} ({ms:.1} ms)", summary(path, &rig)))?
             }
-            Err(e) => println!("{e}"),
+            Err(e) => out.text(&e)?,
         }
-        let _ = std::io::Write::flush(&mut std::io::stdout());
         runs += 1;
         if max_runs.is_some_and(|m| runs >= m) {
             return Ok(());
         }
         watcher.set_files(&files);
         if !watcher.wait() {
-            return Err("the file watcher stopped".into());
+            return Err(CliError::from("the file watcher stopped".to_string()));
         }
     }
 }
@@ -73,7 +75,8 @@ pub fn fmt(paths: &[PathBuf], check_only: bool, registry: &Arc<Registry>) -> Res
     let mut bad = Vec::new();
     for p in paths {
         let formatted = format_rig_file(p, registry).map_err(|d| d.render().trim_end().to_string())?;
-        let current = std::fs::read_to_string(p).map_err(|e| format!("{}: cannot read: {e}", p.display()))?;
+        let current = sinew_core::files::read_text(p, sinew_core::files::RIG_TEXT)
+            .map_err(|e| format!("{}: cannot read: {e}", p.display()))?;
         if current == formatted {
             report.push(format!("{}: already formatted", p.display()));
         } else if check_only {
