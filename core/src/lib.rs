@@ -7,6 +7,7 @@
 //! pull-evaluate with early cutoff) and the compiled [`Program`] with its
 //! [`Instance`]s. The core knows no node type by name.
 
+pub mod custom;
 pub mod data;
 pub mod error;
 pub mod graph;
@@ -20,6 +21,7 @@ pub mod program;
 pub mod program_bin;
 mod program_codec;
 mod program_compile;
+mod program_custom;
 mod program_layout;
 pub mod registry;
 pub mod rig;
@@ -29,6 +31,7 @@ mod tape;
 pub mod testing;
 pub mod value;
 
+pub use custom::{CustomAffects, CustomNode};
 pub use data::{Curve, CurveForm, Mesh, Weights};
 pub use error::{ComputeError, Error, Result, SpecError};
 pub use graph::{EvalStats, Graph, NodeId, Plug};
