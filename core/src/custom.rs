@@ -236,6 +236,26 @@ impl AttrSpec {
         Ok(())
     }
 
+    /// Whether two declarations say the same (defaults and limits compared bit for bit).
+    pub fn same_decl(&self, o: &AttrSpec) -> bool {
+        let bits = |x: Option<f64>| x.map(f64::to_bits);
+        self.name == o.name
+            && self.short_name == o.short_name
+            && self.ty == o.ty
+            && self.direction == o.direction
+            && self.default.same_bits(&o.default)
+            && self.keyable == o.keyable
+            && self.multi == o.multi
+            && self.children == o.children
+            && self.child_short_names == o.child_short_names
+            && self.enum_names == o.enum_names
+            && self.unit == o.unit
+            && self.doc == o.doc
+            && self.mirror == o.mirror
+            && [self.min, self.max, self.soft_min, self.soft_max].map(bits)
+                == [o.min, o.max, o.soft_min, o.soft_max].map(bits)
+    }
+
     /// Why `x` is outside this attribute's hard limits, if it is.
     pub fn out_of_range(&self, x: f64) -> Option<String> {
         match (self.min, self.max) {

@@ -29,11 +29,14 @@ pub struct Cli {
 enum Command {
     /// List the registered node types and their attributes.
     Nodes {
-        /// Show only this node type.
+        /// Show only this node type (with --rig: this node of the rig, custom attributes included).
         node_type: Option<String>,
         /// Print JSON instead of text.
         #[arg(long)]
         json: bool,
+        /// List the attributes of a node of this rig (NODE_TYPE names the node).
+        #[arg(long, value_name = "RIG")]
+        rig: Option<PathBuf>,
     },
     /// Validate a rig: a one-line summary, or every error as file:line:col.
     Check {
@@ -213,7 +216,14 @@ fn print(text: &str) {
 fn execute(cli: Cli) -> Result<(), String> {
     let registry = crate::default_registry().map_err(|e| format!("internal error in a node plugin: {e}"))?;
     match cli.command {
-        Command::Nodes { node_type, json } => print(&nodes_cmd::render(&registry, node_type.as_deref(), json)?),
+        Command::Nodes { node_type, json, rig } => match rig {
+            Some(rig) => {
+                let node = node_type.ok_or("--rig needs a node name: sinew nodes NODE --rig RIG.ron")?;
+                let loaded = rig_cmds::load(&rig, &registry)?;
+                print(&nodes_cmd::render_node(&loaded.graph, &node, json)?)
+            }
+            None => print(&nodes_cmd::render(&registry, node_type.as_deref(), json)?),
+        },
         Command::Check { rig, watch, max_runs } => {
             if watch {
                 rig_cmds::watch(&rig, &registry, max_runs)?;
