@@ -10,6 +10,7 @@
 pub mod custom;
 pub mod data;
 pub mod error;
+pub mod files;
 pub mod graph;
 pub mod inactive;
 mod instance;
@@ -30,6 +31,7 @@ pub mod spec;
 mod tape;
 pub mod testing;
 pub mod value;
+pub mod value_file;
 
 pub use custom::{CustomAffects, CustomNode};
 pub use data::{Curve, CurveForm, Mesh, Weights};

@@ -48,7 +48,7 @@ pub use doc::RigDocument;
 pub use export::{to_dot, to_json};
 pub use mirror::Plane;
 pub use save::{graph_eq, save_rig};
-pub use source::{normalize, FsSource, MemSource, RigSource};
+pub use source::{load_value_file, normalize, FsSource, MemSource, RigSource};
 
 use crate::registry::Registry;
 
