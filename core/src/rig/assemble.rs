@@ -89,7 +89,14 @@ pub(super) fn build_graph(flat: &Flat, registry: &Arc<Registry>, diags: &mut Dia
             continue;
         }
         match g.add_node(&n.type_name, &n.name) {
-            Ok(id) => ids.push(Some(id)),
+            Ok(id) => {
+                for (decl, span) in &n.custom {
+                    if let Err(e) = g.add_attr(id, decl.clone()) {
+                        diags.push(Diagnostic::new(span.clone(), e.to_string()).hint("check the declaration"));
+                    }
+                }
+                ids.push(Some(id))
+            }
             Err(e) => {
                 let mut d = Diagnostic::new(n.span.clone(), e.to_string())
                     .hint("node names are letters, digits and '_', not starting with a digit");

@@ -18,6 +18,7 @@ use super::mirror::{mirror_value, MirrorContext};
 use super::parse::{parse, Ast, Node};
 use super::source::{normalize, FsSource, RigSource};
 use super::typed::{example, read_value};
+use crate::custom::CustomNode;
 use crate::error::nearest;
 use crate::graph::Graph;
 use crate::node::{NodeType, Time};
@@ -50,6 +51,8 @@ pub(crate) struct RecNode {
     pub type_name: String,
     pub parent: Option<String>,
     pub values: Vec<(AttrId, Option<u32>, Value)>,
+    /// Custom attributes the use declared on the node.
+    pub custom: Vec<AttrSpec>,
 }
 
 /// What one top-level `Use` created: nodes and (canonical) connections.
@@ -74,6 +77,8 @@ pub(super) struct FlatNode {
     pub(super) parent: Option<(String, Span)>,
     pub(super) values: Vec<FlatVal>,
     pub(super) via: Option<Span>,
+    /// Custom attributes (`attrs: {..}`), each with its position; `kind` already has them.
+    pub(super) custom: Vec<(AttrSpec, Span)>,
 }
 
 #[derive(Clone)]
@@ -304,6 +309,30 @@ impl<'a> Expander<'a> {
         }
     }
 
+    /// Reads `attrs: {..}` into the node: each declaration is checked against the node's
+    /// type (name clashes, the type's acceptance) and the node's type gets the valid ones,
+    /// so its other fields may set them.
+    fn custom_attrs(&mut self, node: &mut FlatNode, v: &Node) {
+        let decls = super::custom_decl::read_attrs(v, &mut self.diags);
+        let Some(base) = node.kind.clone() else { return };
+        let mut ok: Vec<(AttrSpec, Span)> = Vec::new();
+        for (d, span) in decls {
+            let mut trial: Vec<AttrSpec> = ok.iter().map(|(a, _)| a.clone()).collect();
+            trial.push(d.clone());
+            match CustomNode::new(base.clone(), &trial) {
+                Ok(kind) => {
+                    node.kind = Some(Arc::new(kind));
+                    ok.push((d, span));
+                }
+                Err(e) => self.diags.push(
+                    Diagnostic::new(span, format!("custom attribute `{}`: {}", d.name, e.message))
+                        .hint(format!("`sinew nodes {}` lists the type's attributes", node.type_name)),
+                ),
+            }
+        }
+        node.custom = ok;
+    }
+
     fn flat_node(&mut self, n: &NodeDecl) -> FlatNode {
         let kind = self.registry.get(&n.type_name).cloned();
         if kind.is_none() {
@@ -322,9 +351,15 @@ impl<'a> Expander<'a> {
             parent: n.parent.clone(),
             values: Vec::new(),
             via: None,
+            custom: Vec::new(),
         };
+        if let Some((_, _, v)) = n.fields.iter().find(|f| f.0 == "attrs") {
+            self.custom_attrs(&mut node, v);
+        }
         for (f, fs, v) in &n.fields {
-            self.field(&mut node, f, fs, v);
+            if f != "attrs" {
+                self.field(&mut node, f, fs, v);
+            }
         }
         node
     }
@@ -421,6 +456,7 @@ impl<'a> Expander<'a> {
                             type_name: n.type_name.clone(),
                             parent: n.parent.as_ref().map(|p| p.0.clone()),
                             values: n.values.iter().map(|v| (v.attr, v.index, v.value.clone())).collect(),
+                            custom: n.custom.iter().map(|c| c.0.clone()).collect(),
                         })
                         .collect(),
                     connections: sub.conns.iter().map(|c| (c.src.clone(), c.dst.clone())).collect(),
@@ -549,6 +585,15 @@ impl<'a> Expander<'a> {
                             let span = node.span.clone();
                             Self::put(node, id, None, None, a.default.clone(), span);
                         }
+                    }
+                }
+                // A custom vector's declared default is mirrored like an authored value
+                // (the declaration is the same on both sides).
+                for id in spec.attr_ids().filter(|&id| spec.is_custom(id)) {
+                    let a = spec.attr(id);
+                    if a.mirror != MirrorRole::None && !a.multi && !node.values.iter().any(|v| v.attr == id) {
+                        let span = node.span.clone();
+                        Self::put(node, id, None, None, a.default.clone(), span);
                     }
                 }
                 let cx = MirrorContext {

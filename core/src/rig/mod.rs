@@ -18,6 +18,7 @@
 mod assemble;
 mod build;
 mod canon;
+mod custom_decl;
 pub mod diag;
 pub mod doc;
 mod doc_print;
@@ -30,6 +31,8 @@ pub mod typed;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_custom;
 #[cfg(test)]
 mod tests_fuzz;
 #[cfg(test)]
