@@ -21,6 +21,7 @@ pub mod diag;
 pub mod doc;
 mod doc_print;
 mod export;
+pub mod lex;
 pub mod mirror;
 pub mod parse;
 mod save;
@@ -30,7 +31,11 @@ pub mod typed;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
+mod tests_errors;
+#[cfg(test)]
 mod tests_fuzz;
+#[cfg(test)]
+mod tests_ron;
 
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
