@@ -9,6 +9,7 @@
 
 pub mod data;
 pub mod error;
+pub mod files;
 pub mod graph;
 pub mod inactive;
 mod instance;
@@ -28,6 +29,7 @@ pub mod spec;
 mod tape;
 pub mod testing;
 pub mod value;
+pub mod value_file;
 
 pub use data::{Curve, CurveForm, Mesh, Weights};
 pub use error::{ComputeError, Error, Result, SpecError};

@@ -9,6 +9,7 @@ use std::time::{Duration, SystemTime};
 use sinew_core::rig::{rig_dependencies, to_dot, to_json, LoadedRig};
 use sinew_core::Registry;
 
+use super::output::{CliError, Output};
 use crate::io::mesh_file::{format_rig_file, load_rig};
 
 /// Loads a rig (with mesh `File(..)` references resolved) or returns its
@@ -45,15 +46,20 @@ fn stamps(files: &[PathBuf]) -> Vec<Option<SystemTime>> {
 /// `sinew check --watch RIG`: re-validates whenever the rig or any component
 /// file it includes changes (polling modification times every 100 ms).
 /// Runs until interrupted, or for `max_runs` validations when given.
-pub fn watch(path: &Path, registry: &Arc<Registry>, max_runs: Option<usize>) -> Result<(), String> {
+pub fn watch(
+    path: &Path,
+    registry: &Arc<Registry>,
+    max_runs: Option<usize>,
+    out: &mut Output<'_>,
+) -> Result<(), CliError> {
     let mut runs = 0;
     loop {
         let files = rig_dependencies(path);
         let before = stamps(&files);
         let started = std::time::Instant::now();
         match check(path, registry) {
-            Ok(s) => println!("{s} ({:.1} ms)", started.elapsed().as_secs_f64() * 1000.0),
-            Err(e) => println!("{e}"),
+            Ok(s) => out.text(&format!("{s} ({:.1} ms)", started.elapsed().as_secs_f64() * 1000.0))?,
+            Err(e) => out.text(&e)?,
         }
         runs += 1;
         if max_runs.is_some_and(|m| runs >= m) {
@@ -76,7 +82,8 @@ pub fn fmt(paths: &[PathBuf], check_only: bool, registry: &Arc<Registry>) -> Res
     let mut bad = Vec::new();
     for p in paths {
         let formatted = format_rig_file(p, registry).map_err(|d| d.render().trim_end().to_string())?;
-        let current = std::fs::read_to_string(p).map_err(|e| format!("{}: cannot read: {e}", p.display()))?;
+        let current = sinew_core::files::read_text(p, sinew_core::files::RIG_TEXT)
+            .map_err(|e| format!("{}: cannot read: {e}", p.display()))?;
         if current == formatted {
             report.push(format!("{}: already formatted", p.display()));
         } else if check_only {

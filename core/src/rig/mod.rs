@@ -17,6 +17,7 @@
 
 mod assemble;
 mod build;
+mod canon;
 pub mod diag;
 pub mod doc;
 mod doc_print;
@@ -35,6 +36,8 @@ mod tests_errors;
 #[cfg(test)]
 mod tests_fuzz;
 #[cfg(test)]
+mod tests_names;
+#[cfg(test)]
 mod tests_ron;
 
 use std::collections::HashSet;
@@ -47,7 +50,7 @@ pub use doc::RigDocument;
 pub use export::{to_dot, to_json};
 pub use mirror::Plane;
 pub use save::{graph_eq, save_rig};
-pub use source::{normalize, FsSource, MemSource, RigSource};
+pub use source::{load_value_file, normalize, FsSource, MemSource, RigSource};
 
 use crate::registry::Registry;
 
