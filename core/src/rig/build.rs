@@ -742,6 +742,7 @@ pub fn load_rig_with(
             .collect();
     }
     doc.records = records;
+    doc.syntax = Some(root);
     doc.file_values = file_values;
     super::canon::long_names(&mut doc, &graph, registry);
     if doc.fps.is_some() || doc.frames.is_some() {
