@@ -35,6 +35,10 @@ pub use output::{CliError, Output};
 #[derive(Debug, Parser)]
 #[command(name = "sinew", version, about, long_about = None)]
 pub struct Cli {
+    /// The most nodes a rig may expand to, components included (default 250000): a guard
+    /// against components that multiply without end.
+    #[arg(long, global = true, value_name = "N")]
+    max_nodes: Option<usize>,
     #[command(subcommand)]
     command: Command,
 }
@@ -233,6 +237,9 @@ pub fn run(args: impl IntoIterator<Item = std::ffi::OsString>) -> ExitCode {
 
 fn execute(cli: Cli, out: &mut Output<'_>) -> Result<(), CliError> {
     let registry = crate::default_registry().map_err(|e| format!("internal error in a node plugin: {e}"))?;
+    if let Some(max_nodes) = cli.max_nodes {
+        rig_cmds::set_load_limits(sinew_core::rig::LoadLimits { max_nodes });
+    }
     match cli.command {
         Command::Nodes { node_type, json } => out.text(&nodes_cmd::render(&registry, node_type.as_deref(), json)?)?,
         Command::Check { rig, watch, max_runs } => {

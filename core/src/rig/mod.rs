@@ -31,12 +31,16 @@ pub mod typed;
 mod tests;
 #[cfg(test)]
 mod tests_fuzz;
+#[cfg(test)]
+mod tests_limits;
 
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-pub use build::{load_rig, load_rig_str, load_rig_with, LoadedRig};
+pub use build::{
+    load_rig, load_rig_str, load_rig_with, load_rig_with_limits, LoadLimits, LoadedRig, DEFAULT_MAX_NODES,
+};
 pub use diag::{Diagnostic, Diagnostics, Span};
 pub use doc::RigDocument;
 pub use export::{to_dot, to_json};
