@@ -17,6 +17,7 @@
 
 mod assemble;
 mod build;
+mod canon;
 pub mod diag;
 pub mod doc;
 mod doc_print;
@@ -33,6 +34,8 @@ mod tests;
 mod tests_fuzz;
 #[cfg(test)]
 mod tests_limits;
+#[cfg(test)]
+mod tests_names;
 
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
