@@ -39,6 +39,10 @@ pub use output::{CliError, Output};
 #[derive(Debug, Parser)]
 #[command(name = "sinew", version, about, long_about = None)]
 pub struct Cli {
+    /// The most nodes a rig may expand to, components included (default 250000): a guard
+    /// against components that multiply without end.
+    #[arg(long, global = true, value_name = "N")]
+    max_nodes: Option<usize>,
     #[command(subcommand)]
     command: Command,
 }
@@ -292,6 +296,9 @@ fn view(_: &std::path::Path, _: &str, _: bool, _: &std::sync::Arc<sinew_core::Re
 
 fn execute(cli: Cli, out: &mut Output<'_>) -> Result<(), CliError> {
     let registry = crate::default_registry().map_err(|e| format!("internal error in a node plugin: {e}"))?;
+    if let Some(max_nodes) = cli.max_nodes {
+        rig_cmds::set_load_limits(sinew_core::rig::LoadLimits { max_nodes });
+    }
     match cli.command {
         Command::Nodes { node_type, json, rig } => match rig {
             Some(rig) => {
