@@ -13,6 +13,7 @@ pub mod constraint;
 pub mod deform;
 pub mod ik;
 pub mod math;
+pub mod mathnodes;
 #[cfg(feature = "skeletonize")]
 pub mod skeletonize;
 pub mod transform;
@@ -21,6 +22,7 @@ pub mod transform;
 pub fn register_all(registry: &mut Registry) -> Result<(), SpecError> {
     transform::register(registry)?;
     math::register(registry)?;
+    mathnodes::register(registry)?;
     anim::register(registry)?;
     constraint::register(registry)?;
     ik::register(registry)?;
