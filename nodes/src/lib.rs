@@ -14,6 +14,7 @@ pub mod deform;
 pub mod ik;
 pub mod math;
 pub mod mathnodes;
+pub mod matrix;
 pub mod quat;
 #[cfg(feature = "skeletonize")]
 pub mod skeletonize;
@@ -24,6 +25,7 @@ pub fn register_all(registry: &mut Registry) -> Result<(), SpecError> {
     transform::register(registry)?;
     math::register(registry)?;
     mathnodes::register(registry)?;
+    matrix::register(registry)?;
     quat::register(registry)?;
     anim::register(registry)?;
     constraint::register(registry)?;
