@@ -9,6 +9,7 @@ use std::sync::Arc;
 use sinew_core::{Registry, SpecError};
 
 pub mod anim;
+pub mod animblend;
 pub mod constraint;
 pub mod deform;
 pub mod ik;
@@ -28,6 +29,7 @@ pub fn register_all(registry: &mut Registry) -> Result<(), SpecError> {
     matrix::register(registry)?;
     quat::register(registry)?;
     anim::register(registry)?;
+    animblend::register(registry)?;
     constraint::register(registry)?;
     ik::register(registry)?;
     deform::register(registry)?;
