@@ -16,6 +16,7 @@ use clap::{Parser, Subcommand};
 
 pub use eval_cmd::{eval, parse_plug_value, EvalRequest, Format};
 pub use frames::{parse_frames, FrameRange};
+pub use nodes_cmd::{markdown as nodes_markdown, MARKDOWN_COMMAND};
 
 /// sinew: a Maya-style rig evaluator — check, evaluate and bake rigs written as RON text.
 #[derive(Debug, Parser)]
@@ -34,6 +35,9 @@ enum Command {
         /// Print JSON instead of text.
         #[arg(long)]
         json: bool,
+        /// Print every node type as Markdown (what `docs/nodes.md` holds).
+        #[arg(long, conflicts_with_all = ["json", "node_type"])]
+        markdown: bool,
     },
     /// Validate a rig: a one-line summary, or every error as file:line:col.
     Check {
@@ -213,7 +217,8 @@ fn print(text: &str) {
 fn execute(cli: Cli) -> Result<(), String> {
     let registry = crate::default_registry().map_err(|e| format!("internal error in a node plugin: {e}"))?;
     match cli.command {
-        Command::Nodes { node_type, json } => print(&nodes_cmd::render(&registry, node_type.as_deref(), json)?),
+        Command::Nodes { markdown: true, .. } => print(&nodes_cmd::markdown(&registry)),
+        Command::Nodes { node_type, json, .. } => print(&nodes_cmd::render(&registry, node_type.as_deref(), json)?),
         Command::Check { rig, watch, max_runs } => {
             if watch {
                 rig_cmds::watch(&rig, &registry, max_runs)?;
