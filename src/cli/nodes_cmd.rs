@@ -27,7 +27,8 @@ fn attr_line(a: &AttrSpec) -> String {
         Direction::Input => "in ",
         Direction::Output => "out",
     };
-    let mut s = format!("{dir} {}{}: {}", a.name, if a.multi { "[]" } else { "" }, a.ty);
+    let short = a.short_name.as_ref().map(|s| format!(" ({s})")).unwrap_or_default();
+    let mut s = format!("{dir} {}{}{short}: {}", a.name, if a.multi { "[]" } else { "" }, a.ty);
     if !a.enum_names.is_empty() {
         s.push_str(&format!(" ({})", a.enum_names.join("|")));
     }
@@ -46,12 +47,14 @@ fn attr_line(a: &AttrSpec) -> String {
 fn attr_json(a: &AttrSpec) -> serde_json::Value {
     json!({
         "name": a.name,
+        "shortName": a.short_name,
         "type": a.ty.name(),
         "direction": if a.direction == Direction::Input { "input" } else { "output" },
         "multi": a.multi,
         "keyable": a.keyable,
         "default": a.default.to_string(),
         "children": a.children.as_ref().map(|c| c.to_vec()),
+        "childShortNames": a.child_short_names.as_ref().map(|c| c.to_vec()),
         "enum": if a.enum_names.is_empty() { None } else { Some(a.enum_names.clone()) },
         "unit": format!("{:?}", a.unit).to_lowercase(),
         "doc": a.doc,
@@ -105,7 +108,8 @@ pub fn markdown(registry: &Registry) -> String {
     );
     let _ = writeln!(
         out,
-        "{} node types. Angles are degrees; `[]` marks a multi (array) attribute, `name[i]` in rig files.\n",
+        "{} node types. Angles are degrees; `[]` marks a multi (array) attribute, `name[i]` in rig files; \
+         Maya's short names are in parentheses.\n",
         registry.len()
     );
     for spec in registry.specs() {
@@ -134,7 +138,8 @@ fn md_attr_row(a: &AttrSpec) -> String {
         Direction::Input => "in",
         Direction::Output => "out",
     };
-    let name = format!("`{}{}`", a.name, if a.multi { "[]" } else { "" });
+    let short = a.short_name.as_ref().map(|s| format!(" (`{s}`)")).unwrap_or_default();
+    let name = format!("`{}{}`{short}", a.name, if a.multi { "[]" } else { "" });
     let unit = match a.unit {
         Unit::None => "",
         Unit::Degrees => "degrees",
@@ -157,7 +162,15 @@ fn md_attr_row(a: &AttrSpec) -> String {
             .collect::<Vec<_>>()
             .join(", ")
     } else if let Some(c) = &a.children {
-        c.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ")
+        let shorts = a.child_short_names.as_ref();
+        c.iter()
+            .enumerate()
+            .map(|(k, n)| match shorts {
+                Some(s) => format!("`{n}` (`{}`)", s[k]),
+                None => format!("`{n}`"),
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
     } else {
         String::new()
     };

@@ -58,6 +58,13 @@ pub fn additive_node(suffix: &str, unit: Unit) -> Result<KernelNode, SpecError> 
     }
     s.unit(out, unit);
     s.attr_doc(a, "the layer below").attr_doc(b, "this layer's value");
+    s.maya_names(&[
+        ("inputA", "ia"),
+        ("inputB", "ib"),
+        ("weightA", "wa"),
+        ("weightB", "wb"),
+        ("output", "o"),
+    ]);
     KernelNode::new(s.build()?, &[a, b, wa, wb], out, ScalarOp::Custom(additive))
 }
 
@@ -117,6 +124,14 @@ impl AdditiveRotation {
             s.unit(h, Unit::Degrees);
         }
         s.unit(out, Unit::Degrees);
+        s.maya_names(&[
+            ("inputA", "ia"),
+            ("inputB", "ib"),
+            ("weightA", "wa"),
+            ("weightB", "wb"),
+            ("accumulationMode", "acm"),
+            ("output", "o"),
+        ]);
         Ok(AdditiveRotation {
             spec: s.build()?,
             a,

@@ -94,6 +94,7 @@ impl ListNode {
         s.unit(input, flavor.unit(Unit::None))
             .attr_doc(input, "the list of values");
         s.unit(output, flavor.unit(Unit::None)).attr_doc(output, "the result");
+        s.maya_names(&[("input", "i"), ("output", "o")]);
         Ok(ListNode {
             spec: s.build()?,
             fold,
@@ -186,6 +187,10 @@ impl CompareNode {
         s.unit(input2, unit).attr_doc(input2, "second operand");
         let output = s.output("output", false);
         s.attr_doc(output, "the result of the comparison");
+        s.maya_names(&[("input1", "i1"), ("input2", "i2"), ("output", "o")]);
+        if op == Compare::Equal {
+            s.maya_names(&[("epsilon", "e")]);
+        }
         Ok(CompareNode {
             spec: s.build()?,
             op,
@@ -246,6 +251,11 @@ impl LogicNode {
             (s.input("input1", false), Some(s.input("input2", false)))
         };
         let output = s.output("output", false);
+        if op == Logic::Not {
+            s.maya_names(&[("input", "i"), ("output", "o")]);
+        } else {
+            s.maya_names(&[("input1", "i1"), ("input2", "i2"), ("output", "o")]);
+        }
         Ok(LogicNode {
             spec: s.build()?,
             op,

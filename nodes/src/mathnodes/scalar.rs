@@ -412,11 +412,13 @@ pub fn kernel_node(row: &KernelRow, flavor: Flavor) -> Result<KernelNode, SpecEr
     let mut inputs = Vec::with_capacity(row.inputs.len());
     for a in row.inputs {
         let h = s.input(a.name, a.default);
-        s.unit(h, flavor.unit(a.unit)).attr_doc(h, a.doc);
+        s.unit(h, flavor.unit(a.unit)).attr_doc(h, a.doc).short_name(h, a.short);
         inputs.push(h);
     }
     let out = s.output(row.output.name, row.output.default);
-    s.unit(out, flavor.unit(row.output.unit)).attr_doc(out, row.output.doc);
+    s.unit(out, flavor.unit(row.output.unit))
+        .attr_doc(out, row.output.doc)
+        .short_name(out, row.output.short);
     KernelNode::new(s.build()?, &inputs, out, ScalarOp::Custom(row.op))
 }
 

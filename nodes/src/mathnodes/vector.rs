@@ -120,6 +120,19 @@ impl VectorNode {
             s.attr_doc(m, "the matrix to multiply by");
             m
         });
+        // Maya's short names (node reference): `i`/`ix..` (`x y z` under the matrix
+        // products), `i1`/`i1x..`, `i2`/`i2x..`, `r`/`rx..`, `ro`, `m`, `o`/`ox..`.
+        if op.binary() {
+            s.maya_names(&[("input1", "i1"), ("input2", "i2")]);
+        } else {
+            s.maya_names(&[("input", "i")]);
+        }
+        if op == VectorOp::Rotate {
+            s.maya_names(&[("rotate", "r"), ("rotateOrder", "ro")]);
+        }
+        if matrix.is_some() {
+            s.maya_names(&[("matrix", "m"), ("inputX", "x"), ("inputY", "y"), ("inputZ", "z")]);
+        }
         let (out_vec, out_float) = if matches!(op, VectorOp::Dot | VectorOp::Length) {
             let o = s.output("output", 0.0);
             s.unit(o, unit).attr_doc(o, "the result");
@@ -129,6 +142,7 @@ impl VectorNode {
             s.unit(o, unit).attr_doc(o, "the result");
             (Some(o), None)
         };
+        s.maya_names(&[("output", "o")]);
         Ok(VectorNode {
             spec: s.build()?,
             op,

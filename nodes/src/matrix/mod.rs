@@ -39,6 +39,7 @@ impl AddMatrix {
         let matrix_in = s.multi_input("matrixIn", DMat4::IDENTITY);
         s.attr_doc(matrix_in, "the matrices to add");
         let sum = s.output("matrixSum", DMat4::IDENTITY);
+        s.maya_names(&[("matrixIn", "i"), ("matrixSum", "o")]);
         Ok(AddMatrix {
             spec: s.build()?,
             matrix_in,
@@ -89,6 +90,7 @@ impl WtAddMatrix {
         let weight_in = s.multi_input("weightIn", 0.0);
         s.attr_doc(weight_in, "wtMatrix[i].weightIn: its weight (0 when absent)");
         let sum = s.output("matrixSum", DMat4::IDENTITY);
+        s.maya_names(&[("matrixIn", "m"), ("weightIn", "w"), ("matrixSum", "o")]);
         Ok(WtAddMatrix {
             spec: s.build()?,
             matrix_in,
