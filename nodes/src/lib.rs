@@ -12,6 +12,7 @@ pub mod anim;
 pub mod animblend;
 pub mod constraint;
 pub mod deform;
+pub mod expr;
 pub mod ik;
 pub mod math;
 pub mod mathnodes;
@@ -33,6 +34,7 @@ pub fn register_all(registry: &mut Registry) -> Result<(), SpecError> {
     constraint::register(registry)?;
     ik::register(registry)?;
     deform::register(registry)?;
+    expr::register(registry)?;
     #[cfg(feature = "skeletonize")]
     skeletonize::register(registry)?;
     Ok(())
