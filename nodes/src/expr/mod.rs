@@ -29,10 +29,10 @@
 //! Compilation happens once per expression text: the compiled program is the
 //! node's `program` output (an object computed from `expression` alone), and
 //! each frame runs it over fixed-size registers without allocating. Errors
-//! name the place inside the text (`expression:2:9: unknown name ...`); a rig
-//! file's loader cannot see inside the string, so the error surfaces when
-//! the node is first evaluated (`sinew eval`, `sinew check` does not run
-//! nodes). Totality: division by zero and other undefined results give 0,
+//! name the place inside the text (`expression:2:9: unknown name ...`); in a
+//! rig file the loader compiles the text ([`NodeType::check_input`]) and
+//! reports the mistake at its `file:line:col` inside the string literal, so
+//! `sinew check` catches it. Totality: division by zero and other undefined results give 0,
 //! outputs are made finite, and outputs not assigned on a run are 0.
 //!
 //! Crate choice: no crate fits. `evalexpr` is AGPL-3.0 (sinew is MIT/Apache)
@@ -53,8 +53,8 @@ mod tests;
 use std::sync::Arc;
 
 use sinew_core::{
-    ComputeContext, ComputeError, Input, MultiInput, MultiOutput, NodeSpec, NodeType, ObjectRef, Output, Registry,
-    SpecError,
+    AttrId, ComputeContext, ComputeError, Input, InputError, MultiInput, MultiOutput, NodeSpec, NodeType, ObjectRef,
+    Output, Registry, SpecError, Value,
 };
 
 pub use code::{compile, Compiled, Env};
@@ -146,6 +146,19 @@ impl NodeType for ExpressionNode {
             }
         }
         Ok(())
+    }
+
+    /// A rig file's expression text is compiled when the rig loads, so a mistake is
+    /// reported at its line and column in the file.
+    fn check_input(&self, attr: AttrId, value: &Value) -> Result<(), InputError> {
+        match value {
+            Value::String(text) if attr == self.expression.id() => compile(text).map(|_| ()).map_err(|e| InputError {
+                offset: Some(e.pos.offset),
+                message: e.message,
+                hint: e.hint,
+            }),
+            _ => Ok(()),
+        }
     }
 }
 
