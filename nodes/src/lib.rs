@@ -9,10 +9,15 @@ use std::sync::Arc;
 use sinew_core::{Registry, SpecError};
 
 pub mod anim;
+pub mod animblend;
 pub mod constraint;
 pub mod deform;
+pub mod expr;
 pub mod ik;
 pub mod math;
+pub mod mathnodes;
+pub mod matrix;
+pub mod quat;
 #[cfg(feature = "skeletonize")]
 pub mod skeletonize;
 pub mod transform;
@@ -21,10 +26,15 @@ pub mod transform;
 pub fn register_all(registry: &mut Registry) -> Result<(), SpecError> {
     transform::register(registry)?;
     math::register(registry)?;
+    mathnodes::register(registry)?;
+    matrix::register(registry)?;
+    quat::register(registry)?;
     anim::register(registry)?;
+    animblend::register(registry)?;
     constraint::register(registry)?;
     ik::register(registry)?;
     deform::register(registry)?;
+    expr::register(registry)?;
     #[cfg(feature = "skeletonize")]
     skeletonize::register(registry)?;
     Ok(())

@@ -33,6 +33,7 @@ use clap::{Parser, Subcommand};
 pub use eval_cmd::{apply_overrides, eval, eval_to, parse_plug_value, EvalRequest, Format};
 pub use eval_format::Json;
 pub use frames::{parse_frames, resolve_timing, FrameRange, MAX_FRAME, MAX_FRAMES};
+pub use nodes_cmd::{markdown as nodes_markdown, MARKDOWN_COMMAND};
 pub use output::{CliError, Output};
 
 /// sinew: a Maya-style rig evaluator — check, evaluate and bake rigs written as RON text.
@@ -59,6 +60,9 @@ enum Command {
         /// List the attributes of a node of this rig (NODE_TYPE names the node).
         #[arg(long, value_name = "RIG")]
         rig: Option<PathBuf>,
+        /// Print every node type as Markdown (what `docs/nodes.md` holds).
+        #[arg(long, conflicts_with_all = ["json", "node_type"])]
+        markdown: bool,
     },
     /// Validate a rig: a one-line summary, or every error as file:line:col.
     Check {
@@ -300,7 +304,8 @@ fn execute(cli: Cli, out: &mut Output<'_>) -> Result<(), CliError> {
         rig_cmds::set_load_limits(sinew_core::rig::LoadLimits { max_nodes });
     }
     match cli.command {
-        Command::Nodes { node_type, json, rig } => match rig {
+        Command::Nodes { markdown: true, .. } => out.text(&nodes_cmd::markdown(&registry))?,
+        Command::Nodes { node_type, json, rig, .. } => match rig {
             Some(rig) => {
                 let node = node_type.ok_or("--rig needs a node name: sinew nodes NODE --rig RIG.ron")?;
                 let loaded = rig_cmds::load(&rig, &registry)?;

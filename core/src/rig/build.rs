@@ -146,6 +146,8 @@ struct Expander<'a> {
     created: usize,
     /// The node limit was passed: expansion stops.
     over_limit: bool,
+    /// The root rig's path and text (given to the loader, not read through `source`).
+    root: (Arc<Path>, &'a str),
     diags: Diagnostics,
     /// Files read: the document, or the index of the error that reading it gave.
     files: HashMap<PathBuf, Result<Rc<FileDoc>, usize>>,
@@ -388,7 +390,19 @@ impl<'a> Expander<'a> {
             return;
         }
         match self.read_attr_value(value, a.ty, Some(&a), &what) {
-            Ok(v) => Self::put(node, attr, None, None, v, value.span.clone()),
+            Ok(v) => match node.kind.as_ref().map(|k| k.check_input(attr, &v)) {
+                Some(Err(e)) => {
+                    let span = e
+                        .offset
+                        .map_or(value.span.clone(), |off| self.span_in_string(value, off));
+                    let mut d = Diagnostic::new(span, format!("{what}: {}", e.message));
+                    if let Some(h) = e.hint {
+                        d = d.hint(h);
+                    }
+                    self.diags.push(d);
+                }
+                _ => Self::put(node, attr, None, None, v, value.span.clone()),
+            },
             Err(d) => self.diags.push(d),
         }
     }
@@ -415,6 +429,93 @@ impl<'a> Expander<'a> {
             }
         }
         node.custom = ok;
+    }
+
+    /// The file position of byte `offset` of the string value written at `lit` (a `".."`
+    /// or raw `r#".."#` literal): the file is read again and the literal walked, escapes
+    /// included. Falls back to the literal's own position when the text cannot be read.
+    fn span_in_string(&self, lit: &Node, offset: usize) -> Span {
+        let fallback = lit.span.clone();
+        let text = if lit.span.file == self.root.0 {
+            self.root.1.to_string()
+        } else {
+            match self.source.read(&lit.span.file) {
+                Ok(t) => t,
+                Err(_) => return fallback,
+            }
+        };
+        let target = lit.span.line.saturating_sub(1) as usize;
+        let mut line_start = 0;
+        let mut this_line = None;
+        for (i, l) in text.split_inclusive('\n').enumerate() {
+            if i == target {
+                this_line = Some(l);
+                break;
+            }
+            line_start += l.len();
+        }
+        let Some((col_off, _)) = this_line.and_then(|l| l.char_indices().nth(lit.span.col.saturating_sub(1) as usize))
+        else {
+            return fallback;
+        };
+        let mut src = text[line_start + col_off..].chars().peekable();
+        let (mut line, mut col) = (lit.span.line, lit.span.col);
+        let step = |c: char, line: &mut u32, col: &mut u32| {
+            if c == '\n' {
+                *line += 1;
+                *col = 1;
+            } else {
+                *col += 1;
+            }
+        };
+        // The opening delimiter: `"` or `r`, `#`s, `"`.
+        let raw = src.peek() == Some(&'r');
+        for c in src.by_ref() {
+            step(c, &mut line, &mut col);
+            if c == '"' {
+                break;
+            }
+        }
+        let mut produced = 0usize;
+        while produced < offset {
+            let (line0, col0) = (line, col);
+            let Some(c) = src.next() else { return fallback };
+            step(c, &mut line, &mut col);
+            if c == '\\' && !raw {
+                // An escape: `\u{..}` or one character stand for one character of the value.
+                let Some(e) = src.next() else { return fallback };
+                step(e, &mut line, &mut col);
+                let ch = if e == 'u' {
+                    let mut hex = String::new();
+                    for h in src.by_ref() {
+                        step(h, &mut line, &mut col);
+                        if h == '}' {
+                            break;
+                        }
+                        if h != '{' {
+                            hex.push(h);
+                        }
+                    }
+                    u32::from_str_radix(&hex, 16)
+                        .ok()
+                        .and_then(char::from_u32)
+                        .unwrap_or('?')
+                } else {
+                    e
+                };
+                produced += ch.len_utf8();
+            } else {
+                produced += c.len_utf8();
+            }
+            if produced > offset {
+                return Span {
+                    line: line0,
+                    col: col0,
+                    ..fallback
+                };
+            }
+        }
+        Span { line, col, ..fallback }
     }
 
     fn flat_node(&mut self, n: &NodeDecl) -> FlatNode {
@@ -854,6 +955,7 @@ pub fn load_rig_with_limits(
         limits,
         created: 0,
         over_limit: false,
+        root: (fpath.clone(), text),
         diags: Diagnostics::default(),
         files: HashMap::new(),
         hidden: 0,
