@@ -9,8 +9,10 @@ use std::sync::Arc;
 use sinew_core::{Registry, SpecError};
 
 pub mod anim;
+pub mod cluster;
 pub mod constraint;
 pub mod deform;
+pub mod deformer;
 pub mod ik;
 pub mod math;
 #[cfg(feature = "skeletonize")]
@@ -25,6 +27,7 @@ pub fn register_all(registry: &mut Registry) -> Result<(), SpecError> {
     constraint::register(registry)?;
     ik::register(registry)?;
     deform::register(registry)?;
+    cluster::register(registry)?;
     #[cfg(feature = "skeletonize")]
     skeletonize::register(registry)?;
     Ok(())
