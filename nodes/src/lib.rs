@@ -15,6 +15,7 @@ pub mod deform;
 pub mod deformer;
 pub mod ik;
 pub mod math;
+pub mod nonlinear;
 #[cfg(feature = "skeletonize")]
 pub mod skeletonize;
 pub mod transform;
@@ -28,6 +29,7 @@ pub fn register_all(registry: &mut Registry) -> Result<(), SpecError> {
     ik::register(registry)?;
     deform::register(registry)?;
     cluster::register(registry)?;
+    nonlinear::register(registry)?;
     #[cfg(feature = "skeletonize")]
     skeletonize::register(registry)?;
     Ok(())
