@@ -14,6 +14,7 @@ pub mod constraint;
 pub mod deform;
 pub mod deformer;
 pub mod ik;
+pub mod lattice;
 pub mod math;
 pub mod nonlinear;
 #[cfg(feature = "skeletonize")]
@@ -30,6 +31,7 @@ pub fn register_all(registry: &mut Registry) -> Result<(), SpecError> {
     deform::register(registry)?;
     cluster::register(registry)?;
     nonlinear::register(registry)?;
+    lattice::register(registry)?;
     #[cfg(feature = "skeletonize")]
     skeletonize::register(registry)?;
     Ok(())

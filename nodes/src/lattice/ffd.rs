@@ -1,0 +1,163 @@
+//! Free-form deformation (Sederberg & Parry 1986): a point's lattice coordinates `(s, t, u)`
+//! in the base lattice (the unit cube `[−0.5, 0.5]³` of the base lattice's local space,
+//! shifted to `[0, 1]³`) are mapped through the trivariate Bernstein polynomial of the
+//! deformed control points:
+//! `X(s, t, u) = Σᵢ Σⱼ Σₖ Bᵢ^(S−1)(s) Bⱼ^(T−1)(t) Bₖ^(U−1)(u) Pᵢⱼₖ`, with
+//! `Bᵢⁿ(x) = C(n, i) xⁱ (1 − x)ⁿ⁻ⁱ`. Undisturbed points `Pᵢⱼₖ = (i/(S−1), j/(T−1), k/(U−1)) − ½`
+//! give `X = (s, t, u) − ½` (the Bernstein basis reproduces linear functions): the identity.
+//!
+//! Local mode (Maya's `local` with `localInfluenceS/T/U`): instead of one polynomial over the
+//! whole lattice, each axis is cut into windows of `localInfluence` cells and the point uses
+//! only the `localInfluence + 1` control points of its window (a composite Bézier: continuous,
+//! identity when undisturbed, and a moved point affects only its neighbourhood). Maya does not
+//! document its local scheme; this is sinew's.
+//!
+//! Control points are indexed `s + S·(t + T·u)` (s fastest).
+
+use glam::Vec3;
+
+/// Largest number of divisions per axis.
+pub const MAX_DIVISIONS: usize = 32;
+
+/// A lattice: divisions and control points (in the lattice's local space).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Lattice {
+    /// Points along s, t, u (each at least 2).
+    pub divisions: [usize; 3],
+    /// `S·T·U` control points, `s` fastest.
+    pub points: Vec<Vec3>,
+}
+
+impl Lattice {
+    /// The undisturbed lattice of `divisions`.
+    pub fn undisturbed(divisions: [usize; 3]) -> Self {
+        let [s, t, u] = divisions;
+        let mut points = Vec::with_capacity(s * t * u);
+        let f = |i: usize, n: usize| i as f32 / (n - 1) as f32 - 0.5;
+        for k in 0..u {
+            for j in 0..t {
+                for i in 0..s {
+                    points.push(Vec3::new(f(i, s), f(j, t), f(k, u)));
+                }
+            }
+        }
+        Lattice { divisions, points }
+    }
+}
+
+/// Bernstein basis of one axis at `x`: the window's first control point index and the
+/// weights of its `len` points, written into `b`.
+#[inline(always)]
+fn basis(x: f32, n: usize, local: Option<usize>, b: &mut [f32; MAX_DIVISIONS]) -> (usize, usize) {
+    let (start, deg, v) = match local {
+        Some(li) if li < n - 1 => {
+            let cells = (n - 1) as f32;
+            let cell = ((x * cells).floor().max(0.0) as usize).min(n - 2);
+            let start = cell / li * li;
+            let deg = li.min(n - 1 - start);
+            (start, deg, (x * cells - start as f32) / deg as f32)
+        }
+        _ => (0, n - 1, x),
+    };
+    // Bᵢ(v) = C(deg, i) vⁱ (1 − v)^(deg − i), by the recurrence on the binomials.
+    let w = 1.0 - v;
+    let mut pw = [1.0f32; MAX_DIVISIONS];
+    for i in 1..=deg {
+        pw[i] = pw[i - 1] * w;
+    }
+    let mut vi = 1.0f32;
+    let mut c = 1.0f32;
+    for i in 0..=deg {
+        b[i] = c * vi * pw[deg - i];
+        vi *= v;
+        c = c * (deg - i) as f32 / (i + 1) as f32;
+    }
+    (start, deg + 1)
+}
+
+/// `X(s, t, u)` (see the module docs); `stu` may lie outside `[0, 1]³` (polynomial
+/// extrapolation; local mode clamps the window, not the parameter).
+#[inline(always)]
+pub fn evaluate(l: &Lattice, stu: Vec3, local: Option<[usize; 3]>) -> Vec3 {
+    let [ns, nt, nu] = l.divisions;
+    let (mut bs, mut bt, mut bu) = ([0.0; MAX_DIVISIONS], [0.0; MAX_DIVISIONS], [0.0; MAX_DIVISIONS]);
+    let (s0, sl) = basis(stu.x, ns, local.map(|l| l[0]), &mut bs);
+    let (t0, tl) = basis(stu.y, nt, local.map(|l| l[1]), &mut bt);
+    let (u0, ul) = basis(stu.z, nu, local.map(|l| l[2]), &mut bu);
+    let mut acc = Vec3::ZERO;
+    for (k, &wu) in bu[..ul].iter().enumerate() {
+        for (j, &wt) in bt[..tl].iter().enumerate() {
+            let row = ns * (t0 + j + nt * (u0 + k)) + s0;
+            let pts = &l.points[row..row + sl];
+            let mut r = Vec3::ZERO;
+            for (p, &w) in pts.iter().zip(&bs[..sl]) {
+                r += *p * w;
+            }
+            acc += r * (wt * wu);
+        }
+    }
+    acc
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn undisturbed_lattices_are_the_identity() {
+        for div in [[2, 2, 2], [2, 5, 2], [4, 3, 6]] {
+            let l = Lattice::undisturbed(div);
+            for local in [None, Some([2, 2, 2]), Some([1, 3, 2])] {
+                for stu in [
+                    Vec3::new(0.3, 0.7, 0.1),
+                    Vec3::ZERO,
+                    Vec3::ONE,
+                    Vec3::new(0.51, 0.49, 0.999),
+                ] {
+                    let x = evaluate(&l, stu, local);
+                    assert!((x - (stu - 0.5)).length() < 1e-6, "{div:?} {local:?} {stu}: {x}");
+                }
+            }
+            // Extrapolation outside the cube stays the identity (a linear polynomial).
+            let x = evaluate(&l, Vec3::new(1.5, -0.25, 2.0), None);
+            assert!((x - Vec3::new(1.0, -0.75, 1.5)).length() < 1e-5, "{x}");
+        }
+    }
+
+    #[test]
+    fn one_moved_point_follows_its_bernstein_weight() {
+        // 2×2×2 lattice (trilinear): moving corner (1, 1, 1) by +Z moves the point at
+        // (s, t, u) by s·t·u in z.
+        let mut l = Lattice::undisturbed([2, 2, 2]);
+        l.points[7] += Vec3::Z;
+        let stu = Vec3::new(0.5, 0.25, 0.8);
+        let x = evaluate(&l, stu, None);
+        assert!((x - (stu - 0.5 + Vec3::Z * (0.5 * 0.25 * 0.8))).length() < 1e-6);
+        // 3 points along s (quadratic): the middle point has weight 2s(1 − s) = 0.5 at s = ½.
+        let mut l = Lattice::undisturbed([3, 2, 2]);
+        for k in [1, 4, 7, 10] {
+            l.points[k] += Vec3::Y;
+        }
+        let x = evaluate(&l, Vec3::splat(0.5), None);
+        assert!((x - Vec3::new(0.0, 0.5, 0.0)).length() < 1e-6, "{x}");
+    }
+
+    #[test]
+    fn local_mode_limits_a_point_to_its_window() {
+        // 5 points along t, local influence 2: windows {0,1,2} and {2,3,4}; moving point
+        // t = 4 leaves the first half of the lattice alone.
+        let mut l = Lattice::undisturbed([2, 5, 2]);
+        for s in 0..2 {
+            for u in 0..2 {
+                l.points[s + 2 * (4 + 5 * u)] += Vec3::X;
+            }
+        }
+        let low = evaluate(&l, Vec3::new(0.5, 0.3, 0.5), Some([2, 2, 2]));
+        assert!((low - Vec3::new(0.0, -0.2, 0.0)).length() < 1e-6, "{low}");
+        let high = evaluate(&l, Vec3::new(0.5, 1.0, 0.5), Some([2, 2, 2]));
+        assert!((high - Vec3::new(1.0, 0.5, 0.0)).length() < 1e-6, "{high}");
+        // The same point moves the whole lattice without local mode (t^4 weight at t = 0.3).
+        let global = evaluate(&l, Vec3::new(0.5, 0.3, 0.5), None);
+        assert!((global.x - 0.3f32.powi(4)).abs() < 1e-6, "{global}");
+    }
+}
