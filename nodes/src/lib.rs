@@ -16,6 +16,7 @@ pub mod deformer;
 pub mod ik;
 pub mod lattice;
 pub mod math;
+pub mod mush;
 pub mod nonlinear;
 #[cfg(feature = "skeletonize")]
 pub mod skeletonize;
@@ -32,6 +33,7 @@ pub fn register_all(registry: &mut Registry) -> Result<(), SpecError> {
     cluster::register(registry)?;
     nonlinear::register(registry)?;
     lattice::register(registry)?;
+    mush::register(registry)?;
     #[cfg(feature = "skeletonize")]
     skeletonize::register(registry)?;
     Ok(())
