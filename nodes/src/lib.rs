@@ -21,6 +21,8 @@ pub mod nonlinear;
 #[cfg(feature = "skeletonize")]
 pub mod skeletonize;
 pub mod transform;
+pub mod wire;
+pub mod wrap;
 
 /// Registers every standard node type.
 pub fn register_all(registry: &mut Registry) -> Result<(), SpecError> {
@@ -34,6 +36,8 @@ pub fn register_all(registry: &mut Registry) -> Result<(), SpecError> {
     nonlinear::register(registry)?;
     lattice::register(registry)?;
     mush::register(registry)?;
+    wire::register(registry)?;
+    wrap::register(registry)?;
     #[cfg(feature = "skeletonize")]
     skeletonize::register(registry)?;
     Ok(())

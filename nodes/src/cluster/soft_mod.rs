@@ -49,11 +49,16 @@ pub struct SoftMod {
 
 /// One frame's parameters.
 pub struct SoftModFrame {
-    d: Mat4,
-    center: Vec3,
-    radius: f32,
-    surface: bool,
-    ramp: ObjectRef,
+    /// Per-frame parameter `d`.
+    pub d: Mat4,
+    /// Per-frame parameter `center`.
+    pub center: Vec3,
+    /// Per-frame parameter `radius`.
+    pub radius: f32,
+    /// Per-frame parameter `surface`.
+    pub surface: bool,
+    /// Per-frame parameter `ramp`.
+    pub ramp: ObjectRef,
 }
 
 #[derive(Default)]

@@ -20,5 +20,7 @@ pub mod topology;
 
 #[cfg(test)]
 pub(crate) mod testing;
+#[cfg(test)]
+mod tests_chain;
 
 pub use base::{Deformer, DeformerAttrs, DeformerNode, Job, Membership};

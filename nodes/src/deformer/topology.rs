@@ -18,6 +18,7 @@ pub struct Adjacency {
     /// Whether each vertex lies on an open border.
     pub border: Vec<bool>,
     edges: Vec<(u32, u32)>,
+    fill: Vec<u32>,
 }
 
 impl Adjacency {
@@ -39,7 +40,9 @@ impl Adjacency {
         self.border.clear();
         self.border.resize(n, false);
         // Count each undirected edge once; an edge seen once is a border edge.
-        let mut counts = vec![0u32; n + 1];
+        let counts = &mut self.offsets;
+        counts.clear();
+        counts.resize(n + 1, 0);
         let mut k = 0;
         while k < self.edges.len() {
             let e = self.edges[k];
@@ -60,7 +63,9 @@ impl Adjacency {
         }
         self.neighbors.clear();
         self.neighbors.resize(counts[n] as usize, 0);
-        let mut fill = counts.clone();
+        let fill = &mut self.fill;
+        fill.clear();
+        fill.extend_from_slice(counts);
         let mut k = 0;
         while k < self.edges.len() {
             let (a, b) = self.edges[k];
@@ -75,7 +80,6 @@ impl Adjacency {
         for v in 0..n {
             self.neighbors[counts[v] as usize..counts[v + 1] as usize].sort_unstable();
         }
-        self.offsets = counts;
     }
 
     /// Builds a new adjacency.

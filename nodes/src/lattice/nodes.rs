@@ -129,12 +129,18 @@ pub struct Ffd {
 
 /// One frame of `ffd`.
 pub struct FfdFrame {
-    lattice: ObjectRef,
-    to: Mat4,
-    back: Mat4,
-    local: Option<[usize; 3]>,
-    outside: i64,
-    falloff: f32,
+    /// Per-frame parameter `lattice`.
+    pub lattice: ObjectRef,
+    /// Per-frame parameter `to`.
+    pub to: Mat4,
+    /// Per-frame parameter `back`.
+    pub back: Mat4,
+    /// Per-frame parameter `local`.
+    pub local: Option<[usize; 3]>,
+    /// Per-frame parameter `outside`.
+    pub outside: i64,
+    /// Per-frame parameter `falloff`.
+    pub falloff: f32,
 }
 
 impl Deformer for Ffd {

@@ -141,10 +141,14 @@ pub struct DeltaMush {
 
 /// One frame of `deltaMush`.
 pub struct MushFrame {
-    bind: ObjectRef,
-    displacement: f32,
-    inward: f32,
-    outward: f32,
+    /// Per-frame parameter `bind`.
+    pub bind: ObjectRef,
+    /// Per-frame parameter `displacement`.
+    pub displacement: f32,
+    /// Per-frame parameter `inward`.
+    pub inward: f32,
+    /// Per-frame parameter `outward`.
+    pub outward: f32,
 }
 
 impl Deformer for DeltaMush {

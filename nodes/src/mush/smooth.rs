@@ -47,6 +47,16 @@ impl Smoother {
         }
     }
 
+    /// Smooths `data` in place (`tmp` the second buffer; no allocation once large enough).
+    pub fn smooth_in_place(&self, data: &mut Vec<Vec3>, tmp: &mut Vec<Vec3>, iterations: usize, step: f32) {
+        tmp.clear();
+        tmp.resize(data.len(), Vec3::ZERO);
+        for _ in 0..iterations {
+            self.pass(data, tmp, step);
+            std::mem::swap(data, tmp);
+        }
+    }
+
     fn pass(&self, src: &[Vec3], dst: &mut [Vec3], step: f32) {
         let offsets = &self.adj.offsets;
         let nbrs = &self.adj.neighbors;

@@ -116,8 +116,10 @@ pub struct Tension {
 
 /// One frame of `tension`.
 pub struct TensionFrame {
-    bind: ObjectRef,
-    relax: Relax,
+    /// Per-frame parameter `bind`.
+    pub bind: ObjectRef,
+    /// Per-frame parameter `relax`.
+    pub relax: Relax,
 }
 
 impl Deformer for Tension {

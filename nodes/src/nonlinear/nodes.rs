@@ -220,9 +220,12 @@ pub struct NonLinear {
 
 /// One frame of `nonLinear`: the function and the space changes.
 pub struct NonLinearFrame {
-    func: Option<Func>,
-    to: Mat4,
-    back: Mat4,
+    /// Per-frame parameter `func`.
+    pub func: Option<Func>,
+    /// Per-frame parameter `to`.
+    pub to: Mat4,
+    /// Per-frame parameter `back`.
+    pub back: Mat4,
 }
 
 impl Deformer for NonLinear {
