@@ -19,7 +19,7 @@
 use glam::{DMat4, Mat4};
 use sinew_core::{AttrId, ComputeContext, ComputeError, Input, SpecBuilder};
 
-use crate::deformer::base::{deform_points, finite_matrix, inverse, Deformer, DeformerAttrs, Job};
+use crate::deformer::base::{deform_points, finite_matrix, inverse, Affine, Deformer, DeformerAttrs, Job};
 
 /// The handles of the cluster transform attributes, shared with `softMod`.
 #[derive(Clone, Copy, Debug)]
@@ -109,9 +109,9 @@ impl Deformer for Cluster {
     }
 
     fn deform(&self, _ty: &str, d: &Mat4, job: Job<'_>) -> Result<(), ComputeError> {
-        let d = *d;
+        let d = Affine::new(*d);
         deform_points(&job.input.positions, job.out, job.membership, job.envelope, |_, p| {
-            d.transform_point3(p)
+            d.apply(p)
         });
         Ok(())
     }

@@ -29,7 +29,7 @@ use sinew_core::{AttrId, ComputeContext, ComputeError, Input, MultiInput, Object
 
 use super::falloff::{Ramp, RampKey, INTERPOLATIONS};
 use super::handle::HandleAttrs;
-use crate::deformer::base::{deform_points, finite, Deformer, DeformerAttrs, Job};
+use crate::deformer::base::{deform_points, finite, Affine, Deformer, DeformerAttrs, Job};
 use crate::deformer::topology::{edge_distances, Adjacency, Entry};
 
 /// `falloffMode` choices, by index.
@@ -155,7 +155,7 @@ impl Deformer for SoftMod {
         if f.radius <= 0.0 {
             return Ok(());
         }
-        let (d, c, inv_r) = (f.d, f.center, 1.0 / f.radius);
+        let (d, c, inv_r) = (Affine::new(f.d), f.center, 1.0 / f.radius);
         let fall = |dist: f32| {
             let t = dist * inv_r;
             if t < 1.0 {
@@ -166,9 +166,17 @@ impl Deformer for SoftMod {
         };
         let pos = &job.input.positions;
         if !f.surface {
-            deform_points(pos, job.out, job.membership, job.envelope, |_, p| {
-                p + (d.transform_point3(p) - p) * fall(p.distance(c))
-            });
+            if ramp.keys.is_empty() {
+                // The default curve, branch-free: 1 − smoothstep(min(d / r, 1)).
+                deform_points(pos, job.out, job.membership, job.envelope, |_, p| {
+                    let t = (p.distance(c) * inv_r).min(1.0);
+                    p + (d.apply(p) - p) * (1.0 - t * t * (3.0 - 2.0 * t))
+                });
+            } else {
+                deform_points(pos, job.out, job.membership, job.envelope, |_, p| {
+                    p + (d.apply(p) - p) * fall(p.distance(c))
+                });
+            }
             return Ok(());
         }
         SCRATCH.with(|s| {
@@ -182,7 +190,7 @@ impl Deformer for SoftMod {
             edge_distances(&s.adj, pos, &seed, f.radius, &mut s.dist, &mut s.heap);
             let dist = &s.dist;
             deform_points(pos, job.out, job.membership, job.envelope, |v, p| {
-                p + (d.transform_point3(p) - p) * fall(dist[v])
+                p + (d.apply(p) - p) * fall(dist[v])
             });
         });
         Ok(())

@@ -128,9 +128,81 @@ impl Membership {
     }
 }
 
-/// Runs `f` (the full deformation of one point) over the active vertices: `out[v] = f(p)` at
-/// weight and envelope 1, else `p + (f(p) − p) · weight · envelope`. `out` must hold a copy of
-/// `input` (non-members are left as they are).
+/// Vertices processed together by the dense kernel loop.
+pub const LANES: usize = 8;
+
+/// An affine map as 12 `f32`s (`x, y, z` columns and translation), applied with plain scalar
+/// arithmetic so that loops over vertices vectorize across vertices.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Affine([f32; 12]);
+
+impl Affine {
+    /// The affine part of `m` (its last row is ignored).
+    pub fn new(m: Mat4) -> Self {
+        let c = m.to_cols_array();
+        Affine([
+            c[0], c[1], c[2], c[4], c[5], c[6], c[8], c[9], c[10], c[12], c[13], c[14],
+        ])
+    }
+
+    /// `m · p`.
+    #[inline(always)]
+    pub fn apply(&self, p: Vec3) -> Vec3 {
+        let m = &self.0;
+        Vec3::new(
+            m[0] * p.x + m[3] * p.y + m[6] * p.z + m[9],
+            m[1] * p.x + m[4] * p.y + m[7] * p.z + m[10],
+            m[2] * p.x + m[5] * p.y + m[8] * p.z + m[11],
+        )
+    }
+}
+
+/// The dense loop: `LANES` vertices at a time, transposed to one array per coordinate so the
+/// (inlined, branch-free) point map vectorizes across vertices.
+#[inline(always)]
+fn dense<F: Fn(usize, Vec3) -> Vec3>(input: &[Vec3], out: &mut [Vec3], envelope: f32, f: &F) {
+    let n = input.len().min(out.len());
+    let (input, out) = (&input[..n], &mut out[..n]);
+    let mut v = 0;
+    for (ci, co) in input.chunks_exact(LANES).zip(out.chunks_exact_mut(LANES)) {
+        let (mut x, mut y, mut z) = ([0f32; LANES], [0f32; LANES], [0f32; LANES]);
+        for i in 0..LANES {
+            (x[i], y[i], z[i]) = (ci[i].x, ci[i].y, ci[i].z);
+        }
+        for i in 0..LANES {
+            let p = f(v + i, Vec3::new(x[i], y[i], z[i]));
+            (x[i], y[i], z[i]) = (p.x, p.y, p.z);
+        }
+        if envelope == 1.0 {
+            for i in 0..LANES {
+                co[i] = Vec3::new(x[i], y[i], z[i]);
+            }
+        } else {
+            for i in 0..LANES {
+                co[i] = ci[i] + (Vec3::new(x[i], y[i], z[i]) - ci[i]) * envelope;
+            }
+        }
+        v += LANES;
+    }
+    for (i, (o, &p)) in out[v..].iter_mut().zip(&input[v..]).enumerate() {
+        let d = f(v + i, p);
+        *o = if envelope == 1.0 { d } else { p + (d - p) * envelope };
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn dense_avx2<F: Fn(usize, Vec3) -> Vec3>(input: &[Vec3], out: &mut [Vec3], envelope: f32, f: &F) {
+    dense(input, out, envelope, f)
+}
+
+/// Runs `f` (the full deformation of vertex `v` at `p`) over the active vertices:
+/// `out[v] = f(v, p)` at weight and envelope 1, else `p + (f(v, p) − p) · weight · envelope`.
+/// `out` must hold a copy of `input` (non-members are left as they are).
+///
+/// Every vertex active (no weight map, no membership) takes a loop over blocks of
+/// [`LANES`] vertices, compiled a second time with AVX2 and picked at run time on CPUs that
+/// have it (no fused multiply-add either way, so both give the same bits).
 #[inline(always)]
 pub fn deform_points<F: Fn(usize, Vec3) -> Vec3>(
     input: &[Vec3],
@@ -140,15 +212,14 @@ pub fn deform_points<F: Fn(usize, Vec3) -> Vec3>(
     f: F,
 ) {
     match &m.sparse {
-        None if envelope == 1.0 => {
-            for (v, (o, &p)) in out.iter_mut().zip(input).enumerate() {
-                *o = f(v, p);
-            }
-        }
         None => {
-            for (v, (o, &p)) in out.iter_mut().zip(input).enumerate() {
-                *o = p + (f(v, p) - p) * envelope;
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx2") {
+                // SAFETY: `dense_avx2` only requires AVX2, which the CPU was just checked to have.
+                unsafe { dense_avx2(input, out, envelope, &f) };
+                return;
             }
+            dense(input, out, envelope, &f)
         }
         Some((idx, w)) => {
             for (&v, &w) in idx.iter().zip(w) {
@@ -162,6 +233,78 @@ pub fn deform_points<F: Fn(usize, Vec3) -> Vec3>(
             }
         }
     }
+}
+
+/// Lanes of coordinates: one array per axis for [`LANES`] vertices.
+pub type Block = [[f32; LANES]; 3];
+
+#[inline(always)]
+fn dense_blocks<B: Fn(&mut Block), F: Fn(usize, Vec3) -> Vec3>(
+    input: &[Vec3],
+    out: &mut [Vec3],
+    envelope: f32,
+    block: &B,
+    f: &F,
+) {
+    let n = input.len().min(out.len());
+    let (input, out) = (&input[..n], &mut out[..n]);
+    let mut v = 0;
+    for (ci, co) in input.chunks_exact(LANES).zip(out.chunks_exact_mut(LANES)) {
+        let mut b: Block = [[0.0; LANES]; 3];
+        for i in 0..LANES {
+            (b[0][i], b[1][i], b[2][i]) = (ci[i].x, ci[i].y, ci[i].z);
+        }
+        block(&mut b);
+        for i in 0..LANES {
+            let d = Vec3::new(b[0][i], b[1][i], b[2][i]);
+            co[i] = if envelope == 1.0 {
+                d
+            } else {
+                ci[i] + (d - ci[i]) * envelope
+            };
+        }
+        v += LANES;
+    }
+    for (i, (o, &p)) in out[v..].iter_mut().zip(&input[v..]).enumerate() {
+        let d = f(v + i, p);
+        *o = if envelope == 1.0 { d } else { p + (d - p) * envelope };
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn dense_blocks_avx2<B: Fn(&mut Block), F: Fn(usize, Vec3) -> Vec3>(
+    input: &[Vec3],
+    out: &mut [Vec3],
+    envelope: f32,
+    block: &B,
+    f: &F,
+) {
+    dense_blocks(input, out, envelope, block, f)
+}
+
+/// [`deform_points`] for kernels written per block of [`LANES`] vertices: `block` deforms a
+/// [`Block`] in place (dense case), `f` single vertices (sparse case, and the last vertices
+/// of the dense case). Both must compute the same map.
+#[inline(always)]
+pub fn deform_blocks<B: Fn(&mut Block), F: Fn(usize, Vec3) -> Vec3>(
+    input: &[Vec3],
+    out: &mut [Vec3],
+    m: &Membership,
+    envelope: f32,
+    block: B,
+    f: F,
+) {
+    if m.sparse.is_some() {
+        return deform_points(input, out, m, envelope, f);
+    }
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: `dense_blocks_avx2` only requires AVX2, which the CPU was just checked to have.
+        unsafe { dense_blocks_avx2(input, out, envelope, &block, &f) };
+        return;
+    }
+    dense_blocks(input, out, envelope, &block, &f)
 }
 
 /// Recomputes smooth area-weighted normals of `positions` into `normals` (resized to match;

@@ -16,6 +16,8 @@
 
 use glam::Vec3;
 
+use crate::deformer::base::LANES;
+
 /// Largest number of divisions per axis.
 pub const MAX_DIVISIONS: usize = 32;
 
@@ -84,19 +86,81 @@ pub fn evaluate(l: &Lattice, stu: Vec3, local: Option<[usize; 3]>) -> Vec3 {
     let (s0, sl) = basis(stu.x, ns, local.map(|l| l[0]), &mut bs);
     let (t0, tl) = basis(stu.y, nt, local.map(|l| l[1]), &mut bt);
     let (u0, ul) = basis(stu.z, nu, local.map(|l| l[2]), &mut bu);
-    let mut acc = Vec3::ZERO;
+    // The same operations, in the same order, as `evaluate_lanes` (so a vertex gets the same
+    // bits whichever path deforms it).
+    let (mut x, mut y, mut z) = (0.0f32, 0.0f32, 0.0f32);
     for (k, &wu) in bu[..ul].iter().enumerate() {
         for (j, &wt) in bt[..tl].iter().enumerate() {
+            let wtu = wt * wu;
             let row = ns * (t0 + j + nt * (u0 + k)) + s0;
-            let pts = &l.points[row..row + sl];
-            let mut r = Vec3::ZERO;
-            for (p, &w) in pts.iter().zip(&bs[..sl]) {
-                r += *p * w;
+            for (p, &ws) in l.points[row..row + sl].iter().zip(&bs[..sl]) {
+                let w = ws * wtu;
+                x += w * p.x;
+                y += w * p.y;
+                z += w * p.z;
             }
-            acc += r * (wt * wu);
         }
     }
-    acc
+    Vec3::new(x, y, z)
+}
+
+/// Bernstein basis of degree `n − 1` at [`LANES`] parameters (`b[i][lane]`).
+#[inline(always)]
+fn basis_lanes(x: &[f32; LANES], n: usize, b: &mut [[f32; LANES]; MAX_DIVISIONS]) {
+    let deg = n - 1;
+    let mut w = [0.0f32; LANES];
+    for l in 0..LANES {
+        w[l] = 1.0 - x[l];
+    }
+    // b[i] = C(deg, i) · xⁱ · (1 − x)^(deg − i): powers of (1 − x) first, then the rest.
+    let mut pw = [[1.0f32; LANES]; MAX_DIVISIONS];
+    for i in 1..=deg {
+        for l in 0..LANES {
+            pw[i][l] = pw[i - 1][l] * w[l];
+        }
+    }
+    let mut xi = [1.0f32; LANES];
+    let mut c = 1.0f32;
+    for i in 0..=deg {
+        for l in 0..LANES {
+            b[i][l] = c * xi[l] * pw[deg - i][l];
+            xi[l] *= x[l];
+        }
+        c = c * (deg - i) as f32 / (i + 1) as f32;
+    }
+}
+
+/// [`evaluate`] without local mode for [`LANES`] points at once (`stu` as one array per
+/// axis, overwritten with the result): the same sums, control point by control point with
+/// the points innermost, so they vectorize.
+#[inline(always)]
+pub fn evaluate_lanes(l: &Lattice, stu: &mut [[f32; LANES]; 3]) {
+    let [ns, nt, nu] = l.divisions;
+    let mut bs = [[0.0f32; LANES]; MAX_DIVISIONS];
+    let mut bt = [[0.0f32; LANES]; MAX_DIVISIONS];
+    let mut bu = [[0.0f32; LANES]; MAX_DIVISIONS];
+    basis_lanes(&stu[0], ns, &mut bs);
+    basis_lanes(&stu[1], nt, &mut bt);
+    basis_lanes(&stu[2], nu, &mut bu);
+    let mut acc = [[0.0f32; LANES]; 3];
+    for (k, wu) in bu[..nu].iter().enumerate() {
+        for (j, wt) in bt[..nt].iter().enumerate() {
+            let mut wtu = [0.0f32; LANES];
+            for q in 0..LANES {
+                wtu[q] = wt[q] * wu[q];
+            }
+            let row = ns * (j + nt * k);
+            for (ws, p) in bs[..ns].iter().zip(&l.points[row..row + ns]) {
+                for q in 0..LANES {
+                    let w = ws[q] * wtu[q];
+                    acc[0][q] += w * p.x;
+                    acc[1][q] += w * p.y;
+                    acc[2][q] += w * p.z;
+                }
+            }
+        }
+    }
+    *stu = acc;
 }
 
 #[cfg(test)]
@@ -121,6 +185,26 @@ mod tests {
             // Extrapolation outside the cube stays the identity (a linear polynomial).
             let x = evaluate(&l, Vec3::new(1.5, -0.25, 2.0), None);
             assert!((x - Vec3::new(1.0, -0.75, 1.5)).length() < 1e-5, "{x}");
+        }
+    }
+
+    #[test]
+    fn lanes_match_the_single_point_evaluation() {
+        let mut l = Lattice::undisturbed([3, 5, 2]);
+        for (k, p) in l.points.iter_mut().enumerate() {
+            *p += Vec3::new((k as f32).sin(), (k as f32 * 0.7).cos(), 0.1 * k as f32) * 0.1;
+        }
+        let pts: Vec<Vec3> = (0..LANES)
+            .map(|i| Vec3::new(0.1 * i as f32, 0.9 - 0.1 * i as f32, 0.37))
+            .collect();
+        let mut b = [[0.0; LANES]; 3];
+        for (i, p) in pts.iter().enumerate() {
+            (b[0][i], b[1][i], b[2][i]) = (p.x, p.y, p.z);
+        }
+        evaluate_lanes(&l, &mut b);
+        for (i, p) in pts.iter().enumerate() {
+            let one = evaluate(&l, *p, None);
+            assert!((one - Vec3::new(b[0][i], b[1][i], b[2][i])).length() < 1e-6);
         }
     }
 

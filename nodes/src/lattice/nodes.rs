@@ -27,8 +27,10 @@ use sinew_core::{
     AttrId, ComputeContext, ComputeError, Input, NodeSpec, NodeType, ObjectRef, Output, SpecBuilder, SpecError,
 };
 
-use super::ffd::{evaluate, Lattice, MAX_DIVISIONS};
-use crate::deformer::base::{deform_points, finite, finite_matrix, inverse, Deformer, DeformerAttrs, Job};
+use super::ffd::{evaluate, evaluate_lanes, Lattice, MAX_DIVISIONS};
+use crate::deformer::base::{
+    deform_blocks, deform_points, finite, finite_matrix, inverse, Affine, Block, Deformer, DeformerAttrs, Job, LANES,
+};
 
 /// `outsideLattice` choices, by index.
 pub const OUTSIDE_MODES: [&str; 3] = ["inside", "all", "falloff"];
@@ -230,37 +232,66 @@ impl Deformer for Ffd {
                 "{ty}.deformedLatticePoints is not a lattice; connect lattice.latticeOutput"
             )));
         };
-        let (to, back, local) = (f.to, f.back, f.local);
+        let (to, back, local) = (Affine::new(f.to), Affine::new(f.back), f.local);
         let (pos, out, m, env) = (&job.input.positions, job.out, job.membership, job.envelope);
         let inside = |stu: Vec3| stu.cmpge(Vec3::ZERO).all() && stu.cmple(Vec3::ONE).all();
         match f.outside {
             1 => deform_points(pos, out, m, env, |_, p| {
-                back.transform_point3(evaluate(lattice, to.transform_point3(p) + 0.5, local))
+                back.apply(evaluate(lattice, to.apply(p) + 0.5, local))
             }),
             2 => {
                 let d = f.falloff;
                 deform_points(pos, out, m, env, |_, p| {
-                    let stu = to.transform_point3(p) + 0.5;
+                    let stu = to.apply(p) + 0.5;
                     if inside(stu) {
-                        return back.transform_point3(evaluate(lattice, stu, local));
+                        return back.apply(evaluate(lattice, stu, local));
                     }
                     let c = stu.clamp(Vec3::ZERO, Vec3::ONE);
                     let dist = stu.distance(c);
                     if dist >= d {
                         return p;
                     }
-                    let moved = back.transform_point3(stu - 0.5 + (evaluate(lattice, c, local) - (c - 0.5)));
+                    let moved = back.apply(stu - 0.5 + (evaluate(lattice, c, local) - (c - 0.5)));
                     p + (moved - p) * (1.0 - dist / d)
                 })
             }
-            _ => deform_points(pos, out, m, env, |_, p| {
-                let stu = to.transform_point3(p) + 0.5;
-                if inside(stu) {
-                    back.transform_point3(evaluate(lattice, stu, local))
-                } else {
-                    p
+            _ => {
+                let single = |_, p: Vec3| {
+                    let stu = to.apply(p) + 0.5;
+                    if inside(stu) {
+                        back.apply(evaluate(lattice, stu, local))
+                    } else {
+                        p
+                    }
+                };
+                if local.is_some() {
+                    return {
+                        deform_points(pos, out, m, env, single);
+                        Ok(())
+                    };
                 }
-            }),
+                // Global mode, every vertex active: blocks of LANES vertices.
+                let block = |b: &mut Block| {
+                    let mut stu = [[0.0f32; LANES]; 3];
+                    let mut keep = [false; LANES];
+                    for q in 0..LANES {
+                        let s = to.apply(Vec3::new(b[0][q], b[1][q], b[2][q])) + 0.5;
+                        keep[q] = !inside(s);
+                        (stu[0][q], stu[1][q], stu[2][q]) = (s.x, s.y, s.z);
+                    }
+                    evaluate_lanes(lattice, &mut stu);
+                    for q in 0..LANES {
+                        let o = back.apply(Vec3::new(stu[0][q], stu[1][q], stu[2][q]));
+                        let o = if keep[q] {
+                            Vec3::new(b[0][q], b[1][q], b[2][q])
+                        } else {
+                            o
+                        };
+                        (b[0][q], b[1][q], b[2][q]) = (o.x, o.y, o.z);
+                    }
+                };
+                deform_blocks(pos, out, m, env, block, single);
+            }
         }
         Ok(())
     }

@@ -24,7 +24,7 @@
 use std::cell::RefCell;
 use std::sync::Arc;
 
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 use sinew_core::{AttrId, ComputeContext, ComputeError, Input, Mesh, ObjectRef, Output, SpecBuilder};
 
 use super::smooth::Smoother;
@@ -44,7 +44,7 @@ pub struct MushBind {
     /// The rest positions `R`.
     pub rest: Vec<Vec3>,
     /// `S(R)`.
-    pub smooth_rest: Vec<Vec3>,
+    pub smooth_rest: Vec<Vec3A>,
     /// The two frame neighbours of each vertex (`u32::MAX` = no frame).
     pub frame: Vec<[u32; 2]>,
     /// Offsets in frame coordinates (object space where there is no frame).
@@ -55,13 +55,14 @@ pub struct MushBind {
 
 /// `F · d` for vertex `v` on smoothed positions `s`.
 #[inline(always)]
-fn frame_apply(s: &[Vec3], v: usize, f: [u32; 2], d: Vec3) -> Vec3 {
+fn frame_apply(s: &[Vec3A], v: usize, f: [u32; 2], d: Vec3) -> Vec3 {
     if f[0] == NONE {
         return d;
     }
-    let p = s[v];
-    let e1 = s[f[0] as usize] - p;
-    let e2 = s[f[1] as usize] - p;
+    let s = |i: usize| Vec3::from(s[i]);
+    let p = s(v);
+    let e1 = s(f[0] as usize) - p;
+    let e2 = s(f[1] as usize) - p;
     let n = e1.cross(e2).normalize_or_zero();
     let t = e1.normalize_or_zero();
     let b = n.cross(t);
@@ -75,19 +76,20 @@ impl MushBind {
         let smoother = Smoother::new(n, &rest.triangles, pin_border);
         let (mut s, mut tmp) = (Vec::new(), Vec::new());
         smoother.smooth(&rest.positions, iterations, step, &mut s, &mut tmp);
+        let sv: Vec<Vec3> = s.iter().map(|&p| Vec3::from(p)).collect();
         let mut frame = vec![[NONE; 2]; n];
         let mut local = vec![Vec3::ZERO; n];
         for v in 0..n {
-            let d = rest.positions[v] - s[v];
+            let d = rest.positions[v] - sv[v];
             local[v] = d;
             let nb = smoother.adj.of(v);
             let Some(&a) = nb.first() else {
                 continue;
             };
-            let e1 = (s[a as usize] - s[v]).normalize_or_zero();
+            let e1 = (sv[a as usize] - sv[v]).normalize_or_zero();
             let best = nb[1..]
                 .iter()
-                .map(|&b| (b, e1.cross((s[b as usize] - s[v]).normalize_or_zero()).length()))
+                .map(|&b| (b, e1.cross((sv[b as usize] - sv[v]).normalize_or_zero()).length()))
                 .max_by(|x, y| x.1.total_cmp(&y.1));
             let Some((b, sin)) = best else {
                 continue;
@@ -97,7 +99,7 @@ impl MushBind {
             }
             let f = [a, b];
             // Local coordinates: project on the frame's axes.
-            let (t, nrm) = (e1, e1.cross(s[b as usize] - s[v]).normalize_or_zero());
+            let (t, nrm) = (e1, e1.cross(sv[b as usize] - sv[v]).normalize_or_zero());
             let bt = nrm.cross(t);
             frame[v] = f;
             local[v] = Vec3::new(d.dot(t), d.dot(bt), d.dot(nrm));
@@ -118,8 +120,8 @@ impl MushBind {
 
 #[derive(Default)]
 struct Scratch {
-    smooth: Vec<Vec3>,
-    tmp: Vec<Vec3>,
+    smooth: Vec<Vec3A>,
+    tmp: Vec<Vec3A>,
     normals: Vec<Vec3>,
 }
 
@@ -241,7 +243,7 @@ impl Deformer for DeltaMush {
             deform_points(pos, job.out, job.membership, job.envelope, |v, p| {
                 let offset = frame_apply(sm, v, b.frame[v], b.local[v]) * disp - b.rest_offset[v];
                 // Components where nothing changed keep the rest bits (−0.0 stays −0.0).
-                let change = (sm[v] - b.smooth_rest[v]) + offset;
+                let change = Vec3::from(sm[v] - b.smooth_rest[v]) + offset;
                 let r = b.rest[v];
                 let out = Vec3::select(change.cmpeq(Vec3::ZERO), r, r + change);
                 if !constrain {

@@ -121,17 +121,12 @@ pub enum Func {
     },
 }
 
-/// `t = (y − lb)/(hb − lb)` clamped to [0, 1] (a step at `lb` when the bounds meet).
+/// `t = (y − lb)/(hb − lb)` clamped to [0, 1] (a step just above `lb` when the bounds meet).
+/// Branch-free (`max`/`min` rather than `clamp`, whose argument checks would sit in the loop).
 #[inline(always)]
+#[allow(clippy::manual_clamp)] // max/min map the NaN of 0/0 (equal bounds, y = lb) to 0; clamp keeps it
 fn unit(y: f32, lb: f32, hb: f32) -> f32 {
-    let span = hb - lb;
-    if span > 0.0 {
-        ((y - lb) / span).clamp(0.0, 1.0)
-    } else if y >= hb {
-        1.0
-    } else {
-        0.0
-    }
+    ((y - lb) / (hb - lb)).max(0.0).min(1.0)
 }
 
 /// The sine and wave amplitude factor for dropoff `d` at relative distance `tau` ∈ [0, 1].
@@ -150,7 +145,7 @@ pub fn bend(p: Vec3, k: f32, lb: f32, hb: f32) -> Vec3 {
     if k == 0.0 {
         return p;
     }
-    let yc = p.y.clamp(lb, hb);
+    let yc = p.y.max(lb).min(hb);
     let (s, c) = sin_cos(k * yc);
     let dy = p.y - yc;
     // (1 − cos θ)/k without cancellation: sin²θ / (k (1 + cos θ)) while cos θ > 0.
@@ -170,13 +165,8 @@ pub fn twist(p: Vec3, lb: f32, hb: f32, a0: f32, a1: f32) -> Vec3 {
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub fn squash(p: Vec3, lb: f32, hb: f32, f: f32, expand: f32, m: f32, ss: f32, es: f32) -> Vec3 {
-    if p.y <= lb {
-        return Vec3::new(p.x, p.y + (f - 1.0) * lb, p.z);
-    }
-    if p.y >= hb {
-        return Vec3::new(p.x, p.y + (f - 1.0) * hb, p.z);
-    }
-    let t = (p.y - lb) / (hb - lb);
+    // Branch-free: the inside formula is computed for every point and selected.
+    let t = unit(p.y, lb, hb);
     let u = if t < m { (t - m) / m } else { (t - m) / (1.0 - m) };
     let sm = if u < 0.0 { ss } else { es };
     let sm1 = sm + 1.0;
@@ -185,11 +175,22 @@ pub fn squash(p: Vec3, lb: f32, hb: f32, f: f32, expand: f32, m: f32, ss: f32, e
     let h = (1.0 - sm) / (sm1 - e) * d;
     let (_, c) = sin_cos(u * std::f32::consts::FRAC_PI_2);
     let i = (c * c * sm + h) * expand;
-    let mut scale = (f.sqrt() - 1.0) * 2.0 * i + 1.0;
-    if scale.abs() < 1e-6 {
-        scale = 1e-6f32.copysign(scale);
+    let scale = (f.sqrt() - 1.0) * 2.0 * i + 1.0;
+    let scale = if scale.abs() < 1e-6 {
+        1e-6f32.copysign(scale)
+    } else {
+        scale
+    };
+    let inside = Vec3::new(p.x / scale, p.y * f, p.z / scale);
+    let below = Vec3::new(p.x, p.y + (f - 1.0) * lb, p.z);
+    let above = Vec3::new(p.x, p.y + (f - 1.0) * hb, p.z);
+    if p.y <= lb {
+        below
+    } else if p.y >= hb {
+        above
+    } else {
+        inside
     }
-    Vec3::new(p.x / scale, p.y * f, p.z / scale)
 }
 
 /// Flare (see the module docs).
@@ -209,7 +210,7 @@ pub fn flare(p: Vec3, lb: f32, hb: f32, start: [f32; 2], end: [f32; 2], curve: f
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub fn sine(p: Vec3, lb: f32, hb: f32, amplitude: f32, freq: f32, offset: f32, drop: f32) -> Vec3 {
-    let yc = p.y.clamp(lb, hb);
+    let yc = p.y.max(lb).min(hb);
     let (s, _) = sin_cos(freq * (yc + offset));
     let bound = if yc >= 0.0 { hb } else { -lb };
     let tau = if bound > 0.0 { (yc.abs() / bound).min(1.0) } else { 0.0 };
@@ -221,7 +222,7 @@ pub fn sine(p: Vec3, lb: f32, hb: f32, amplitude: f32, freq: f32, offset: f32, d
 #[allow(clippy::too_many_arguments)]
 pub fn wave(p: Vec3, r0: f32, r1: f32, amplitude: f32, freq: f32, offset: f32, drop: f32) -> Vec3 {
     let r = (p.x * p.x + p.z * p.z).sqrt();
-    let rc = r.clamp(r0, r1);
+    let rc = r.max(r0).min(r1);
     let (_, c) = sin_cos(freq * (rc + offset - r0));
     let tau = if r1 > r0 { (rc - r0) / (r1 - r0) } else { 0.0 };
     Vec3::new(p.x, p.y + amplitude * dropoff(drop, tau) * c, p.z)

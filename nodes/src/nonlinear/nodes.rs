@@ -18,7 +18,7 @@ use sinew_core::{
 };
 
 use super::funcs::{bend, flare, sine, squash, twist, wave, Func};
-use crate::deformer::base::{deform_points, finite, finite_matrix, handle_space, Deformer, DeformerAttrs, Job};
+use crate::deformer::base::{deform_points, finite, finite_matrix, handle_space, Affine, Deformer, DeformerAttrs, Job};
 use crate::deformer::DeformerNode;
 
 /// A handle shape parameter: (attribute, default, whether it is an angle in degrees).
@@ -264,14 +264,15 @@ impl Deformer for NonLinear {
         let Some(func) = f.func else {
             return Ok(());
         };
-        let (to, back) = (f.to, f.back);
+        if let Func::Bend { k: 0.0, .. } = func {
+            return Ok(());
+        }
+        let (to, back) = (Affine::new(f.to), Affine::new(f.back));
         let (pos, out, m, env) = (&job.input.positions, job.out, job.membership, job.envelope);
         let tau = std::f32::consts::TAU;
         macro_rules! run {
             ($map:expr) => {
-                deform_points(pos, out, m, env, |_, p| {
-                    back.transform_point3($map(to.transform_point3(p)))
-                })
+                deform_points(pos, out, m, env, |_, p| back.apply($map(to.apply(p))))
             };
         }
         match func {

@@ -20,7 +20,7 @@
 use std::cell::RefCell;
 use std::sync::Arc;
 
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 use sinew_core::{AttrId, ComputeContext, ComputeError, Input, Mesh, MultiInput, ObjectRef, Output, SpecBuilder};
 
 use super::bind::WrapBind;
@@ -70,8 +70,8 @@ pub struct WrapFrame {
 
 #[derive(Default)]
 struct Scratch {
-    change: Vec<Vec3>,
-    tmp: Vec<Vec3>,
+    change: Vec<Vec3A>,
+    tmp: Vec<Vec3A>,
 }
 
 thread_local! {
@@ -242,17 +242,17 @@ impl<const PROXIMITY: bool> Deformer for WrapDeformer<PROXIMITY> {
             let mut s = s.borrow_mut();
             let s = &mut *s;
             s.change.clear();
-            s.change.resize(pos.len(), Vec3::ZERO);
+            s.change.resize(pos.len(), Vec3A::ZERO);
             for (b, &w) in c.bind.bindings.iter().zip(&c.weight) {
                 let d = c.bind.change(b, driver(b.driver));
-                s.change[b.vertex as usize] = if w == 1.0 { d } else { d * w };
+                s.change[b.vertex as usize] = Vec3A::from(if w == 1.0 { d } else { d * w });
             }
             if f.smooth > 0 && !c.smoother.inv_degree.is_empty() {
                 c.smoother.smooth_in_place(&mut s.change, &mut s.tmp, f.smooth, 0.5);
             }
             let change = &s.change;
             deform_points(pos, job.out, job.membership, job.envelope, |v, p| {
-                let d = change[v];
+                let d = Vec3::from(change[v]);
                 Vec3::select(d.cmpeq(Vec3::ZERO), p, p + d)
             });
         });
