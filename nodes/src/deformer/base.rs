@@ -157,10 +157,39 @@ impl Affine {
     }
 }
 
+/// The deformation of one vertex `v` at `p` (closures `Fn(usize, Vec3) -> Vec3` are point
+/// maps). Kernels that must be inlined into the vectorized loop implement it on a struct with
+/// an `#[inline(always)]` method: a closure's body is inlined only at the compiler's
+/// discretion, and a call per vertex costs several times the arithmetic.
+pub trait PointMap {
+    /// Where vertex `v` at `p` goes.
+    fn map(&self, v: usize, p: Vec3) -> Vec3;
+}
+
+impl<F: Fn(usize, Vec3) -> Vec3> PointMap for F {
+    #[inline(always)]
+    fn map(&self, v: usize, p: Vec3) -> Vec3 {
+        self(v, p)
+    }
+}
+
+/// A deformation of [`LANES`] vertices at once, as one array per axis (see [`deform_blocks`]).
+pub trait BlockMap {
+    /// Deforms the block in place.
+    fn map_block(&self, b: &mut Block);
+}
+
+impl<F: Fn(&mut Block)> BlockMap for F {
+    #[inline(always)]
+    fn map_block(&self, b: &mut Block) {
+        self(b)
+    }
+}
+
 /// The dense loop: `LANES` vertices at a time, transposed to one array per coordinate so the
 /// (inlined, branch-free) point map vectorizes across vertices.
 #[inline(always)]
-fn dense<F: Fn(usize, Vec3) -> Vec3>(input: &[Vec3], out: &mut [Vec3], envelope: f32, f: &F) {
+fn dense<F: PointMap>(input: &[Vec3], out: &mut [Vec3], envelope: f32, f: &F) {
     let n = input.len().min(out.len());
     let (input, out) = (&input[..n], &mut out[..n]);
     let mut v = 0;
@@ -170,7 +199,7 @@ fn dense<F: Fn(usize, Vec3) -> Vec3>(input: &[Vec3], out: &mut [Vec3], envelope:
             (x[i], y[i], z[i]) = (ci[i].x, ci[i].y, ci[i].z);
         }
         for i in 0..LANES {
-            let p = f(v + i, Vec3::new(x[i], y[i], z[i]));
+            let p = f.map(v + i, Vec3::new(x[i], y[i], z[i]));
             (x[i], y[i], z[i]) = (p.x, p.y, p.z);
         }
         if envelope == 1.0 {
@@ -185,14 +214,14 @@ fn dense<F: Fn(usize, Vec3) -> Vec3>(input: &[Vec3], out: &mut [Vec3], envelope:
         v += LANES;
     }
     for (i, (o, &p)) in out[v..].iter_mut().zip(&input[v..]).enumerate() {
-        let d = f(v + i, p);
+        let d = f.map(v + i, p);
         *o = if envelope == 1.0 { d } else { p + (d - p) * envelope };
     }
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn dense_avx2<F: Fn(usize, Vec3) -> Vec3>(input: &[Vec3], out: &mut [Vec3], envelope: f32, f: &F) {
+unsafe fn dense_avx2<F: PointMap>(input: &[Vec3], out: &mut [Vec3], envelope: f32, f: &F) {
     dense(input, out, envelope, f)
 }
 
@@ -211,15 +240,21 @@ pub fn deform_points<F: Fn(usize, Vec3) -> Vec3>(
     envelope: f32,
     f: F,
 ) {
+    deform_map(input, out, m, envelope, &f)
+}
+
+/// [`deform_points`] for a [`PointMap`] (a struct whose `map` is `#[inline(always)]`).
+#[inline(always)]
+pub fn deform_map<F: PointMap>(input: &[Vec3], out: &mut [Vec3], m: &Membership, envelope: f32, f: &F) {
     match &m.sparse {
         None => {
             #[cfg(target_arch = "x86_64")]
             if std::arch::is_x86_feature_detected!("avx2") {
                 // SAFETY: `dense_avx2` only requires AVX2, which the CPU was just checked to have.
-                unsafe { dense_avx2(input, out, envelope, &f) };
+                unsafe { dense_avx2(input, out, envelope, f) };
                 return;
             }
-            dense(input, out, envelope, &f)
+            dense(input, out, envelope, f)
         }
         Some((idx, w)) => {
             for (&v, &w) in idx.iter().zip(w) {
@@ -228,7 +263,7 @@ pub fn deform_points<F: Fn(usize, Vec3) -> Vec3>(
                     continue;
                 };
                 let k = w * envelope;
-                let d = f(v, p);
+                let d = f.map(v, p);
                 *o = if k == 1.0 { d } else { p + (d - p) * k };
             }
         }
@@ -239,13 +274,7 @@ pub fn deform_points<F: Fn(usize, Vec3) -> Vec3>(
 pub type Block = [[f32; LANES]; 3];
 
 #[inline(always)]
-fn dense_blocks<B: Fn(&mut Block), F: Fn(usize, Vec3) -> Vec3>(
-    input: &[Vec3],
-    out: &mut [Vec3],
-    envelope: f32,
-    block: &B,
-    f: &F,
-) {
+fn dense_blocks<B: BlockMap, F: PointMap>(input: &[Vec3], out: &mut [Vec3], envelope: f32, block: &B, f: &F) {
     let n = input.len().min(out.len());
     let (input, out) = (&input[..n], &mut out[..n]);
     let mut v = 0;
@@ -254,7 +283,7 @@ fn dense_blocks<B: Fn(&mut Block), F: Fn(usize, Vec3) -> Vec3>(
         for i in 0..LANES {
             (b[0][i], b[1][i], b[2][i]) = (ci[i].x, ci[i].y, ci[i].z);
         }
-        block(&mut b);
+        block.map_block(&mut b);
         for i in 0..LANES {
             let d = Vec3::new(b[0][i], b[1][i], b[2][i]);
             co[i] = if envelope == 1.0 {
@@ -266,14 +295,14 @@ fn dense_blocks<B: Fn(&mut Block), F: Fn(usize, Vec3) -> Vec3>(
         v += LANES;
     }
     for (i, (o, &p)) in out[v..].iter_mut().zip(&input[v..]).enumerate() {
-        let d = f(v + i, p);
+        let d = f.map(v + i, p);
         *o = if envelope == 1.0 { d } else { p + (d - p) * envelope };
     }
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn dense_blocks_avx2<B: Fn(&mut Block), F: Fn(usize, Vec3) -> Vec3>(
+unsafe fn dense_blocks_avx2<B: BlockMap, F: PointMap>(
     input: &[Vec3],
     out: &mut [Vec3],
     envelope: f32,
@@ -287,24 +316,24 @@ unsafe fn dense_blocks_avx2<B: Fn(&mut Block), F: Fn(usize, Vec3) -> Vec3>(
 /// [`Block`] in place (dense case), `f` single vertices (sparse case, and the last vertices
 /// of the dense case). Both must compute the same map.
 #[inline(always)]
-pub fn deform_blocks<B: Fn(&mut Block), F: Fn(usize, Vec3) -> Vec3>(
+pub fn deform_blocks<B: BlockMap, F: PointMap>(
     input: &[Vec3],
     out: &mut [Vec3],
     m: &Membership,
     envelope: f32,
-    block: B,
-    f: F,
+    block: &B,
+    f: &F,
 ) {
     if m.sparse.is_some() {
-        return deform_points(input, out, m, envelope, f);
+        return deform_map(input, out, m, envelope, f);
     }
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: `dense_blocks_avx2` only requires AVX2, which the CPU was just checked to have.
-        unsafe { dense_blocks_avx2(input, out, envelope, &block, &f) };
+        unsafe { dense_blocks_avx2(input, out, envelope, block, f) };
         return;
     }
-    dense_blocks(input, out, envelope, &block, &f)
+    dense_blocks(input, out, envelope, block, f)
 }
 
 /// Recomputes smooth area-weighted normals of `positions` into `normals` (resized to match;

@@ -104,16 +104,21 @@ pub fn evaluate(l: &Lattice, stu: Vec3, local: Option<[usize; 3]>) -> Vec3 {
     Vec3::new(x, y, z)
 }
 
-/// Bernstein basis of degree `n − 1` at [`LANES`] parameters (`b[i][lane]`).
+/// Largest divisions per axis of the [`LANES`] path (larger lattices go point by point).
+pub const MAX_LANE_DIVISIONS: usize = 8;
+
+type LaneBasis = [[f32; LANES]; MAX_LANE_DIVISIONS];
+
+/// Bernstein basis of degree `n − 1` at [`LANES`] parameters (`b[i][lane]`), by the same
+/// operations as the single-point basis.
 #[inline(always)]
-fn basis_lanes(x: &[f32; LANES], n: usize, b: &mut [[f32; LANES]; MAX_DIVISIONS]) {
+fn basis_lanes(x: &[f32; LANES], n: usize, b: &mut LaneBasis) {
     let deg = n - 1;
     let mut w = [0.0f32; LANES];
     for l in 0..LANES {
         w[l] = 1.0 - x[l];
     }
-    // b[i] = C(deg, i) · xⁱ · (1 − x)^(deg − i): powers of (1 − x) first, then the rest.
-    let mut pw = [[1.0f32; LANES]; MAX_DIVISIONS];
+    let mut pw = [[1.0f32; LANES]; MAX_LANE_DIVISIONS];
     for i in 1..=deg {
         for l in 0..LANES {
             pw[i][l] = pw[i - 1][l] * w[l];
@@ -132,13 +137,14 @@ fn basis_lanes(x: &[f32; LANES], n: usize, b: &mut [[f32; LANES]; MAX_DIVISIONS]
 
 /// [`evaluate`] without local mode for [`LANES`] points at once (`stu` as one array per
 /// axis, overwritten with the result): the same sums, control point by control point with
-/// the points innermost, so they vectorize.
+/// the points innermost, so they vectorize. Every division must be at most
+/// [`MAX_LANE_DIVISIONS`].
 #[inline(always)]
 pub fn evaluate_lanes(l: &Lattice, stu: &mut [[f32; LANES]; 3]) {
     let [ns, nt, nu] = l.divisions;
-    let mut bs = [[0.0f32; LANES]; MAX_DIVISIONS];
-    let mut bt = [[0.0f32; LANES]; MAX_DIVISIONS];
-    let mut bu = [[0.0f32; LANES]; MAX_DIVISIONS];
+    let mut bs = [[0.0f32; LANES]; MAX_LANE_DIVISIONS];
+    let mut bt = [[0.0f32; LANES]; MAX_LANE_DIVISIONS];
+    let mut bu = [[0.0f32; LANES]; MAX_LANE_DIVISIONS];
     basis_lanes(&stu[0], ns, &mut bs);
     basis_lanes(&stu[1], nt, &mut bt);
     basis_lanes(&stu[2], nu, &mut bu);

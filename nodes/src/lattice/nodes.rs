@@ -27,9 +27,10 @@ use sinew_core::{
     AttrId, ComputeContext, ComputeError, Input, NodeSpec, NodeType, ObjectRef, Output, SpecBuilder, SpecError,
 };
 
-use super::ffd::{evaluate, evaluate_lanes, Lattice, MAX_DIVISIONS};
+use super::ffd::{evaluate, evaluate_lanes, Lattice, MAX_DIVISIONS, MAX_LANE_DIVISIONS};
 use crate::deformer::base::{
-    deform_blocks, deform_points, finite, finite_matrix, inverse, Affine, Block, Deformer, DeformerAttrs, Job, LANES,
+    deform_blocks, deform_points, finite, finite_matrix, inverse, Affine, Block, BlockMap, Deformer, DeformerAttrs,
+    Job, PointMap, LANES,
 };
 
 /// `outsideLattice` choices, by index.
@@ -114,6 +115,53 @@ impl NodeType for LatticeShape {
         }
         ctx.set(self.output, ObjectRef::new(lattice));
         Ok(())
+    }
+}
+
+/// The global-mode ffd kernel, inside mode, per block and per point (the same operations).
+struct FfdBlock<'a> {
+    lattice: &'a Lattice,
+    to: Affine,
+    back: Affine,
+}
+
+#[inline(always)]
+fn inside(stu: Vec3) -> bool {
+    stu.cmpge(Vec3::ZERO).all() && stu.cmple(Vec3::ONE).all()
+}
+
+impl BlockMap for FfdBlock<'_> {
+    #[inline(always)]
+    fn map_block(&self, b: &mut Block) {
+        let mut stu = [[0.0f32; LANES]; 3];
+        let mut keep = [false; LANES];
+        for q in 0..LANES {
+            let s = self.to.apply(Vec3::new(b[0][q], b[1][q], b[2][q])) + 0.5;
+            keep[q] = !inside(s);
+            (stu[0][q], stu[1][q], stu[2][q]) = (s.x, s.y, s.z);
+        }
+        evaluate_lanes(self.lattice, &mut stu);
+        for q in 0..LANES {
+            let o = self.back.apply(Vec3::new(stu[0][q], stu[1][q], stu[2][q]));
+            let o = if keep[q] {
+                Vec3::new(b[0][q], b[1][q], b[2][q])
+            } else {
+                o
+            };
+            (b[0][q], b[1][q], b[2][q]) = (o.x, o.y, o.z);
+        }
+    }
+}
+
+impl PointMap for FfdBlock<'_> {
+    #[inline(always)]
+    fn map(&self, _: usize, p: Vec3) -> Vec3 {
+        let stu = self.to.apply(p) + 0.5;
+        if inside(stu) {
+            self.back.apply(evaluate(self.lattice, stu, None))
+        } else {
+            p
+        }
     }
 }
 
@@ -234,7 +282,6 @@ impl Deformer for Ffd {
         };
         let (to, back, local) = (Affine::new(f.to), Affine::new(f.back), f.local);
         let (pos, out, m, env) = (&job.input.positions, job.out, job.membership, job.envelope);
-        let inside = |stu: Vec3| stu.cmpge(Vec3::ZERO).all() && stu.cmple(Vec3::ONE).all();
         match f.outside {
             1 => deform_points(pos, out, m, env, |_, p| {
                 back.apply(evaluate(lattice, to.apply(p) + 0.5, local))
@@ -264,33 +311,15 @@ impl Deformer for Ffd {
                         p
                     }
                 };
-                if local.is_some() {
+                if local.is_some() || lattice.divisions.iter().any(|&d| d > MAX_LANE_DIVISIONS) {
                     return {
                         deform_points(pos, out, m, env, single);
                         Ok(())
                     };
                 }
                 // Global mode, every vertex active: blocks of LANES vertices.
-                let block = |b: &mut Block| {
-                    let mut stu = [[0.0f32; LANES]; 3];
-                    let mut keep = [false; LANES];
-                    for q in 0..LANES {
-                        let s = to.apply(Vec3::new(b[0][q], b[1][q], b[2][q])) + 0.5;
-                        keep[q] = !inside(s);
-                        (stu[0][q], stu[1][q], stu[2][q]) = (s.x, s.y, s.z);
-                    }
-                    evaluate_lanes(lattice, &mut stu);
-                    for q in 0..LANES {
-                        let o = back.apply(Vec3::new(stu[0][q], stu[1][q], stu[2][q]));
-                        let o = if keep[q] {
-                            Vec3::new(b[0][q], b[1][q], b[2][q])
-                        } else {
-                            o
-                        };
-                        (b[0][q], b[1][q], b[2][q]) = (o.x, o.y, o.z);
-                    }
-                };
-                deform_blocks(pos, out, m, env, block, single);
+                let block = FfdBlock { lattice, to, back };
+                deform_blocks(pos, out, m, env, &block, &block);
             }
         }
         Ok(())

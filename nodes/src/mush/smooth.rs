@@ -57,8 +57,13 @@ impl Smoother {
     }
 
     fn pass(&self, src: &[Vec3A], dst: &mut [Vec3A], step: f32) {
-        let offsets = &self.adj.offsets;
-        let nbrs = &self.adj.neighbors;
+        let n = self.inv_degree.len();
+        if n == 0 || self.adj.offsets.len() != n + 1 {
+            return;
+        }
+        let (src, dst) = (&src[..n], &mut dst[..n]);
+        let offsets = &self.adj.offsets[..n + 1];
+        let nbrs = &self.adj.neighbors[..offsets[n] as usize];
         for (v, (d, &inv)) in dst.iter_mut().zip(&self.inv_degree).enumerate() {
             let p = src[v];
             if inv == 0.0 {
@@ -66,8 +71,17 @@ impl Smoother {
                 continue;
             }
             let mut sum = Vec3A::ZERO;
-            for &u in &nbrs[offsets[v] as usize..offsets[v + 1] as usize] {
-                sum += src[u as usize];
+            // SAFETY: `Adjacency::rebuild` makes offsets non-decreasing from 0 up to
+            // `neighbors.len()` and every neighbour index below its vertex count, which is
+            // `n` (`inv_degree` was built for the same adjacency), and `src` holds `n` points.
+            unsafe {
+                let (a, b) = (
+                    *offsets.get_unchecked(v) as usize,
+                    *offsets.get_unchecked(v + 1) as usize,
+                );
+                for &u in nbrs.get_unchecked(a..b) {
+                    sum += *src.get_unchecked(u as usize);
+                }
             }
             *d = p + (sum * inv - p) * step;
         }

@@ -132,11 +132,9 @@ fn unit(y: f32, lb: f32, hb: f32) -> f32 {
 /// The sine and wave amplitude factor for dropoff `d` at relative distance `tau` ∈ [0, 1].
 #[inline(always)]
 fn dropoff(d: f32, tau: f32) -> f32 {
-    if d >= 0.0 {
-        1.0 - d * tau
-    } else {
-        1.0 + d * (1.0 - tau)
-    }
+    // 1 − d·τ for d ≥ 0, 1 + d·(1 − τ) for d < 0, without a branch.
+    let neg = d.min(0.0);
+    1.0 - d.max(0.0) * tau + neg * (1.0 - tau)
 }
 
 /// Bend (see the module docs).
@@ -145,12 +143,18 @@ pub fn bend(p: Vec3, k: f32, lb: f32, hb: f32) -> Vec3 {
     if k == 0.0 {
         return p;
     }
+    let inv_k = 1.0 / k;
     let yc = p.y.max(lb).min(hb);
-    let (s, c) = sin_cos(k * yc);
+    // Half-angle form, without division or branch per point: sin θ = 2 sh ch,
+    // cos θ = ch² − sh², 1 − cos θ = 2 sh² (no cancellation for small θ).
+    let (sh, ch) = sin_cos(0.5 * k * yc);
+    let (s, c, one_minus_c) = (2.0 * sh * ch, ch * ch - sh * sh, 2.0 * sh * sh);
     let dy = p.y - yc;
-    // (1 − cos θ)/k without cancellation: sin²θ / (k (1 + cos θ)) while cos θ > 0.
-    let one_minus_c = if c > 0.0 { s * s / (1.0 + c) } else { 1.0 - c };
-    Vec3::new(c * p.x + s * dy + one_minus_c / k, c * dy - s * p.x + s / k, p.z)
+    Vec3::new(
+        c * p.x + s * dy + one_minus_c * inv_k,
+        c * dy - s * p.x + s * inv_k,
+        p.z,
+    )
 }
 
 /// Twist (see the module docs).
@@ -165,23 +169,30 @@ pub fn twist(p: Vec3, lb: f32, hb: f32, a0: f32, a1: f32) -> Vec3 {
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub fn squash(p: Vec3, lb: f32, hb: f32, f: f32, expand: f32, m: f32, ss: f32, es: f32) -> Vec3 {
-    // Branch-free: the inside formula is computed for every point and selected.
+    // Per side (start below m, end above): sm + 1, e = √((sm + 1)² − 1) and
+    // (1 − sm)/(sm + 1 − e), which depend on the parameters only (hoisted out of vertex loops).
+    let side = |sm: f32| {
+        let sm1 = sm + 1.0;
+        let e = (sm1 * sm1 - 1.0).sqrt();
+        (sm, sm1 * sm1, e, (1.0 - sm) / (sm1 - e))
+    };
+    let (start, end) = (side(ss), side(es));
+    let (inv_m, inv_1m) = (1.0 / m, 1.0 / (1.0 - m));
+    let root_f = (f.sqrt() - 1.0) * 2.0 * expand;
+    // Branch-free per point: the inside formula is computed for every point and selected.
     let t = unit(p.y, lb, hb);
-    let u = if t < m { (t - m) / m } else { (t - m) / (1.0 - m) };
-    let sm = if u < 0.0 { ss } else { es };
-    let sm1 = sm + 1.0;
-    let e = (sm1 * sm1 - 1.0).sqrt();
-    let d = (sm1 * sm1 - u * u).max(0.0).sqrt() - e;
-    let h = (1.0 - sm) / (sm1 - e) * d;
+    let u = (t - m) * if t < m { inv_m } else { inv_1m };
+    let (sm, sm1_sq, e, k) = if u < 0.0 { start } else { end };
+    let h = k * ((sm1_sq - u * u).max(0.0).sqrt() - e);
     let (_, c) = sin_cos(u * std::f32::consts::FRAC_PI_2);
-    let i = (c * c * sm + h) * expand;
-    let scale = (f.sqrt() - 1.0) * 2.0 * i + 1.0;
+    let scale = root_f * (c * c * sm + h) + 1.0;
     let scale = if scale.abs() < 1e-6 {
         1e-6f32.copysign(scale)
     } else {
         scale
     };
-    let inside = Vec3::new(p.x / scale, p.y * f, p.z / scale);
+    let inv = 1.0 / scale;
+    let inside = Vec3::new(p.x * inv, p.y * f, p.z * inv);
     let below = Vec3::new(p.x, p.y + (f - 1.0) * lb, p.z);
     let above = Vec3::new(p.x, p.y + (f - 1.0) * hb, p.z);
     if p.y <= lb {
@@ -210,10 +221,11 @@ pub fn flare(p: Vec3, lb: f32, hb: f32, start: [f32; 2], end: [f32; 2], curve: f
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub fn sine(p: Vec3, lb: f32, hb: f32, amplitude: f32, freq: f32, offset: f32, drop: f32) -> Vec3 {
+    let inv_hb = if hb > 0.0 { 1.0 / hb } else { 0.0 };
+    let inv_lb = if lb < 0.0 { -1.0 / lb } else { 0.0 };
     let yc = p.y.max(lb).min(hb);
     let (s, _) = sin_cos(freq * (yc + offset));
-    let bound = if yc >= 0.0 { hb } else { -lb };
-    let tau = if bound > 0.0 { (yc.abs() / bound).min(1.0) } else { 0.0 };
+    let tau = (yc.abs() * if yc >= 0.0 { inv_hb } else { inv_lb }).min(1.0);
     Vec3::new(p.x + amplitude * dropoff(drop, tau) * s, p.y, p.z)
 }
 
@@ -221,10 +233,11 @@ pub fn sine(p: Vec3, lb: f32, hb: f32, amplitude: f32, freq: f32, offset: f32, d
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub fn wave(p: Vec3, r0: f32, r1: f32, amplitude: f32, freq: f32, offset: f32, drop: f32) -> Vec3 {
+    let inv_span = if r1 > r0 { 1.0 / (r1 - r0) } else { 0.0 };
     let r = (p.x * p.x + p.z * p.z).sqrt();
     let rc = r.max(r0).min(r1);
     let (_, c) = sin_cos(freq * (rc + offset - r0));
-    let tau = if r1 > r0 { (rc - r0) / (r1 - r0) } else { 0.0 };
+    let tau = (rc - r0) * inv_span;
     Vec3::new(p.x, p.y + amplitude * dropoff(drop, tau) * c, p.z)
 }
 

@@ -11,14 +11,16 @@
 //! (angles in degrees); `highBound` below `lowBound`, `maxRadius` below `minRadius`, a zero
 //! `wavelength` or a `maxExpandPos` outside (0, 1) are errors naming the attribute.
 
-use glam::{DMat4, Mat4};
+use glam::{DMat4, Mat4, Vec3};
 use sinew_core::{
     AttrId, ComputeContext, ComputeError, Input, NodeSpec, NodeType, ObjectRef, Output, Registry, SpecBuilder,
     SpecError, Unit,
 };
 
 use super::funcs::{bend, flare, sine, squash, twist, wave, Func};
-use crate::deformer::base::{deform_points, finite, finite_matrix, handle_space, Affine, Deformer, DeformerAttrs, Job};
+use crate::deformer::base::{
+    deform_map, finite, finite_matrix, handle_space, Affine, Deformer, DeformerAttrs, Job, PointMap,
+};
 use crate::deformer::DeformerNode;
 
 /// A handle shape parameter: (attribute, default, whether it is an angle in degrees).
@@ -271,13 +273,13 @@ impl Deformer for NonLinear {
         let (pos, out, m, env) = (&job.input.positions, job.out, job.membership, job.envelope);
         let tau = std::f32::consts::TAU;
         macro_rules! run {
-            ($map:expr) => {
-                deform_points(pos, out, m, env, |_, p| back.apply($map(to.apply(p))))
+            ($f:expr) => {
+                deform_map(pos, out, m, env, &InHandle { to, back, f: $f })
             };
         }
         match func {
-            Func::Bend { k, lb, hb } => run!(|p| bend(p, k, lb, hb)),
-            Func::Twist { lb, hb, a0, a1 } => run!(|p| twist(p, lb, hb, a0, a1)),
+            Func::Bend { k, lb, hb } => run!(BendMap { k, lb, hb }),
+            Func::Twist { lb, hb, a0, a1 } => run!(TwistMap { lb, hb, a0, a1 }),
             Func::Squash {
                 lb,
                 hb,
@@ -286,14 +288,28 @@ impl Deformer for NonLinear {
                 m,
                 ss,
                 es,
-            } => run!(|p| squash(p, lb, hb, f, expand, m, ss, es)),
+            } => run!(SquashMap {
+                lb,
+                hb,
+                f,
+                expand,
+                m,
+                ss,
+                es
+            }),
             Func::Flare {
                 lb,
                 hb,
                 start,
                 end,
                 curve,
-            } => run!(|p| flare(p, lb, hb, start, end, curve)),
+            } => run!(FlareMap {
+                lb,
+                hb,
+                start,
+                end,
+                curve
+            }),
             Func::Sine {
                 lb,
                 hb,
@@ -301,10 +317,14 @@ impl Deformer for NonLinear {
                 wavelength,
                 offset,
                 dropoff,
-            } => {
-                let w = tau / wavelength;
-                run!(|p| sine(p, lb, hb, amplitude, w, offset, dropoff))
-            }
+            } => run!(SineMap {
+                lb,
+                hb,
+                amplitude,
+                w: tau / wavelength,
+                offset,
+                dropoff
+            }),
             Func::Wave {
                 r0,
                 r1,
@@ -312,14 +332,69 @@ impl Deformer for NonLinear {
                 wavelength,
                 offset,
                 dropoff,
-            } => {
-                let w = tau / wavelength;
-                run!(|p| wave(p, r0, r1, amplitude, w, offset, dropoff))
-            }
+            } => run!(WaveMap {
+                r0,
+                r1,
+                amplitude,
+                w: tau / wavelength,
+                offset,
+                dropoff
+            }),
         }
         Ok(())
     }
 }
+
+/// A function in handle space, as a point map (inlined into the vertex loop).
+struct InHandle<F> {
+    to: Affine,
+    back: Affine,
+    f: F,
+}
+
+/// A function of handle-space points.
+trait HandleFn {
+    fn apply(&self, p: Vec3) -> Vec3;
+}
+
+impl<F: HandleFn> PointMap for InHandle<F> {
+    #[inline(always)]
+    fn map(&self, _: usize, p: Vec3) -> Vec3 {
+        self.back.apply(self.f.apply(self.to.apply(p)))
+    }
+}
+
+macro_rules! handle_fn {
+    ($name:ident { $($field:ident: $ty:ty),* } => |$p:ident| $body:expr) => {
+        struct $name {
+            $($field: $ty),*
+        }
+        impl HandleFn for $name {
+            #[inline(always)]
+            fn apply(&self, $p: Vec3) -> Vec3 {
+                let $name { $($field),* } = *self;
+                $body
+            }
+        }
+        impl Clone for $name {
+            fn clone(&self) -> Self {
+                *self
+            }
+        }
+        impl Copy for $name {}
+    };
+}
+
+handle_fn!(BendMap { k: f32, lb: f32, hb: f32 } => |p| bend(p, k, lb, hb));
+handle_fn!(TwistMap { lb: f32, hb: f32, a0: f32, a1: f32 } => |p| twist(p, lb, hb, a0, a1));
+handle_fn!(SquashMap { lb: f32, hb: f32, f: f32, expand: f32, m: f32, ss: f32, es: f32 }
+    => |p| squash(p, lb, hb, f, expand, m, ss, es));
+handle_fn!(FlareMap { lb: f32, hb: f32, start: [f32; 2], end: [f32; 2], curve: f32 }
+    => |p| flare(p, lb, hb, start, end, curve));
+handle_fn!(SineMap { lb: f32, hb: f32, amplitude: f32, w: f32, offset: f32, dropoff: f32 }
+    => |p| sine(p, lb, hb, amplitude, w, offset, dropoff));
+handle_fn!(WaveMap { r0: f32, r1: f32, amplitude: f32, w: f32, offset: f32, dropoff: f32 }
+    => |p| wave(p, r0, r1, amplitude, w, offset, dropoff));
 
 /// Registers the handle shapes and `nonLinear`.
 pub fn register(registry: &mut Registry) -> Result<(), SpecError> {
