@@ -193,6 +193,10 @@ enum Command {
         /// The glTF file to write.
         #[arg(short, long)]
         output: PathBuf,
+        /// Bake meshes deformed by deformers glTF cannot express (cluster, nonLinear, ffd,
+        /// deltaMush, wire, wrap...) as one morph target per frame (else: a warning names what is lost).
+        #[arg(long)]
+        bake_deformers_as_morphs: bool,
     },
     /// Retarget a BVH take onto a rig's skeleton and bake the result to glTF.
     Retarget {
@@ -395,12 +399,14 @@ fn execute(cli: Cli, out: &mut Output<'_>) -> Result<(), CliError> {
             fps,
             tolerance,
             output,
+            bake_deformers_as_morphs,
         } => out.text(&bake_cmd::bake_cmd(
             &rig,
             frames.as_deref(),
             fps,
             tolerance,
             &output,
+            bake_deformers_as_morphs,
             &registry,
         )?)?,
         Command::Retarget {
