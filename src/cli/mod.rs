@@ -89,9 +89,9 @@ enum Command {
         #[arg(long)]
         lazy: bool,
     },
-    /// Import a glTF (.gltf/.glb) or BVH file as a rig (RIG.ron plus its data file RIG.data.ron).
+    /// Import a Maya ASCII (.ma), glTF (.gltf/.glb) or BVH file as a rig (RIG.ron plus its data file RIG.data.ron).
     Import {
-        /// The model or motion file.
+        /// The scene, model or motion file.
         model: PathBuf,
         /// The rig file to write.
         #[arg(short, long)]
@@ -102,6 +102,12 @@ enum Command {
         /// glTF: the rig's frame rate (default 30; playback is exact at any rate).
         #[arg(long)]
         fps: Option<f64>,
+        /// Maya: multiply every length by this factor (0.01: centimetres to metres).
+        #[arg(long)]
+        scale: Option<f64>,
+        /// Maya: fail when a node type or connection that changes the rig is skipped.
+        #[arg(long)]
+        strict: bool,
     },
     /// Evaluate a rig over frames and write a glTF (.glb or .gltf) with skeleton, skins, morphs and animation.
     Bake {
@@ -248,11 +254,17 @@ fn execute(cli: Cli) -> Result<(), String> {
             output,
             animation,
             fps,
+            scale,
+            strict,
         } => print(&import_cmd::import(
             &model,
             &output,
-            animation.as_deref(),
-            fps,
+            &import_cmd::ImportFlags {
+                animation: animation.as_deref(),
+                fps,
+                scale,
+                strict,
+            },
             &registry,
         )?),
         Command::Bake {

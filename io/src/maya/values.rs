@@ -201,8 +201,11 @@ impl<'a> Values<'a> {
         }
     }
 
-    /// `N s1 .. sN` (`stringArray`).
+    /// `N s1 .. sN` (`stringArray`); no value at all is an empty array.
     pub fn string_array(&self) -> Result<Vec<String>, ValueError> {
+        if self.toks.is_empty() {
+            return Ok(Vec::new());
+        }
         let n = self.count(0)?;
         let mut out = Vec::with_capacity(n.min(self.toks.len()));
         for i in 1..=n {
@@ -216,6 +219,9 @@ impl<'a> Values<'a> {
 
     /// `N v1 .. vN` (`doubleArray`, `Int32Array`).
     pub fn number_array(&self) -> Result<Vec<f64>, ValueError> {
+        if self.toks.is_empty() {
+            return Ok(Vec::new());
+        }
         let n = self.count(0)?;
         if self.toks.len() < n + 1 {
             return self.fail(
@@ -229,6 +235,9 @@ impl<'a> Values<'a> {
     /// `N` then `N` tuples of `width` numbers, keeping the first three (`pointArray` has
     /// width 4 — x y z w —, `vectorArray` width 3).
     pub fn point_array(&self, width: usize) -> Result<Vec<DVec3>, ValueError> {
+        if self.toks.is_empty() {
+            return Ok(Vec::new());
+        }
         let n = self.count(0)?;
         if self.toks.len() < 1 + n * width {
             return self.fail(self.toks.len(), format!("expected {n} points of {width} numbers"));
@@ -243,6 +252,9 @@ impl<'a> Values<'a> {
 
     /// `N "vtx[0]" "vtx[6:7]" ...` (`componentList`).
     pub fn component_list(&self) -> Result<Vec<Component>, ValueError> {
+        if self.toks.is_empty() {
+            return Ok(Vec::new());
+        }
         let n = self.count(0)?;
         let mut out = Vec::with_capacity(n.min(self.toks.len()));
         for i in 1..=n {
