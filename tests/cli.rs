@@ -29,7 +29,7 @@ fn nodes_lists_types_as_text_and_json() {
     let (code, out, _) = sinew(&["nodes", "multiplyDivide"]);
     assert_eq!(code, 0);
     assert!(
-        out.contains("operation: enum (noOperation|multiply|divide|power)"),
+        out.contains("operation (op): enum (noOperation|multiply|divide|power)"),
         "{out}"
     );
     let (code, out, _) = sinew(&["nodes", "--json"]);
@@ -51,6 +51,17 @@ fn nodes_lists_types_as_text_and_json() {
     ] {
         assert!(names.contains(&t), "{t} missing from sinew nodes --json");
     }
+    // Maya short names are listed.
+    let joint = v
+        .as_array()
+        .and_then(|a| a.iter().find(|t| t["name"] == "joint"))
+        .expect("joint");
+    let jo = joint["attributes"]
+        .as_array()
+        .and_then(|a| a.iter().find(|x| x["name"] == "jointOrient"))
+        .expect("jointOrient");
+    assert_eq!(jo["shortName"], "jo");
+    assert_eq!(jo["childShortNames"][0], "jox");
     let (code, _, err) = sinew(&["nodes", "multDiv"]);
     assert_eq!(code, 1);
     assert!(err.contains("unknown node type \"multDiv\""), "{err}");

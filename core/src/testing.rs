@@ -365,7 +365,17 @@ impl TestXform {
         s.dag(parent_matrix, world_matrix);
         if let Some(is) = inverse_scale {
             s.dag_link("scale", is);
+            s.maya_names(&[("jointOrient", "jo"), ("inverseScale", "is")]);
         }
+        s.maya_names(&[
+            ("translate", "t"),
+            ("rotate", "r"),
+            ("rotateOrder", "ro"),
+            ("scale", "s"),
+            ("parentMatrix", "pm"),
+            ("matrix", "m"),
+            ("worldMatrix", "wm"),
+        ]);
         Ok(TestXform {
             spec: s.build()?,
             translate,

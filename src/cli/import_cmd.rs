@@ -4,6 +4,7 @@
 use std::path::Path;
 use std::sync::Arc;
 
+use sinew_core::files::{read_text, DATA};
 use sinew_core::Registry;
 
 use crate::io::import_bvh::{import_bvh, BvhImportOptions};
@@ -28,6 +29,7 @@ pub struct ImportFlags<'a> {
 /// Runs `sinew import`; returns the summary to print.
 pub fn import(model: &Path, out: &Path, flags: &ImportFlags<'_>, registry: &Arc<Registry>) -> Result<String, String> {
     let ImportFlags { animation, fps, .. } = *flags;
+    super::paths::check_rig_output(&[model], out)?;
     let ext = model
         .extension()
         .and_then(|e| e.to_str())
@@ -78,7 +80,7 @@ pub fn import(model: &Path, out: &Path, flags: &ImportFlags<'_>, registry: &Arc<
                     "--animation and --fps apply to glTF files; a BVH has one take at its own frame rate".into(),
                 );
             }
-            let text = std::fs::read_to_string(model).map_err(|e| format!("cannot read {}: {e}", model.display()))?;
+            let text = read_text(model, DATA).map_err(|e| format!("cannot read {}: {e}", model.display()))?;
             let bvh = parse_bvh(&text).map_err(|e| format!("{}:{e}", model.display()))?;
             (import_bvh(&bvh, &BvhImportOptions { name: stem })?.rig, Vec::new())
         }

@@ -27,7 +27,8 @@ fn attr_line(a: &AttrSpec) -> String {
         Direction::Input => "in ",
         Direction::Output => "out",
     };
-    let mut s = format!("{dir} {}{}: {}", a.name, if a.multi { "[]" } else { "" }, a.ty);
+    let short = a.short_name.as_ref().map(|s| format!(" ({s})")).unwrap_or_default();
+    let mut s = format!("{dir} {}{}{short}: {}", a.name, if a.multi { "[]" } else { "" }, a.ty);
     if !a.enum_names.is_empty() {
         s.push_str(&format!(" ({})", a.enum_names.join("|")));
     }
@@ -46,12 +47,14 @@ fn attr_line(a: &AttrSpec) -> String {
 fn attr_json(a: &AttrSpec) -> serde_json::Value {
     json!({
         "name": a.name,
+        "shortName": a.short_name,
         "type": a.ty.name(),
         "direction": if a.direction == Direction::Input { "input" } else { "output" },
         "multi": a.multi,
         "keyable": a.keyable,
         "default": a.default.to_string(),
         "children": a.children.as_ref().map(|c| c.to_vec()),
+        "childShortNames": a.child_short_names.as_ref().map(|c| c.to_vec()),
         "enum": if a.enum_names.is_empty() { None } else { Some(a.enum_names.clone()) },
         "unit": format!("{:?}", a.unit).to_lowercase(),
         "doc": a.doc,

@@ -683,6 +683,7 @@ pub fn load_rig_with(
     }
     doc.records = records;
     doc.file_values = file_values;
+    super::canon::long_names(&mut doc, &graph, registry);
     if doc.fps.is_some() || doc.frames.is_some() {
         graph.set_time(Time::new(
             doc.frames.map(|f| f.0).unwrap_or(0.0),

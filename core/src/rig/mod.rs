@@ -17,6 +17,7 @@
 
 mod assemble;
 mod build;
+mod canon;
 pub mod diag;
 pub mod doc;
 mod doc_print;
@@ -31,6 +32,8 @@ pub mod typed;
 mod tests;
 #[cfg(test)]
 mod tests_fuzz;
+#[cfg(test)]
+mod tests_names;
 
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
@@ -42,7 +45,7 @@ pub use doc::RigDocument;
 pub use export::{to_dot, to_json};
 pub use mirror::Plane;
 pub use save::{graph_eq, save_rig};
-pub use source::{normalize, FsSource, MemSource, RigSource};
+pub use source::{load_value_file, normalize, FsSource, MemSource, RigSource};
 
 use crate::registry::Registry;
 

@@ -31,6 +31,14 @@ pub struct MayaAttr {
 /// A type's own attributes: `(long, short, class)`.
 pub(crate) type Table = &'static [(&'static str, &'static str, UnitClass)];
 
+/// Maya attributes sinew keeps under another long name on its node of the same type:
+/// `(Maya type, Maya long name, sinew name)`. (The values may differ too: sinew's tangent
+/// types are its own enum; the animation mapper converts them.)
+pub const SINEW_RENAMES: &[(&str, &str, &str)] = &[
+    ("animCurve", "keyTanInType", "keyInTangentType"),
+    ("animCurve", "keyTanOutType", "keyOutTangentType"),
+];
+
 /// The types with tables: `(type, parent type, own attributes)`.
 fn types() -> Vec<(&'static str, Option<&'static str>, Table)> {
     let mut v = Vec::new();
@@ -165,5 +173,48 @@ mod tests {
                 t = parent_type(x);
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod agreement {
+    use super::*;
+
+    /// Where a sinew node type has Maya's name, its spec's short names (sinew's own
+    /// table, from Maya's node reference) and these tables agree: a short name both know
+    /// means the same long name.
+    #[test]
+    fn sinew_short_names_agree_with_these_tables() {
+        let registry = sinew_nodes::registry().unwrap();
+        let mut checked = 0;
+        let mut bad = Vec::new();
+        for spec in registry.specs() {
+            let ty = spec.name.as_str();
+            if !index().contains_key(ty) {
+                continue;
+            }
+            for id in spec.attr_ids() {
+                let a = spec.attr(id);
+                let pairs = a.short_name.iter().map(|s| (s.clone(), a.name.clone())).chain(
+                    a.child_short_names
+                        .iter()
+                        .zip(a.children.iter())
+                        .flat_map(|(s, c)| s.iter().cloned().zip(c.iter().cloned())),
+                );
+                for (short, long) in pairs {
+                    checked += 1;
+                    if let Some(m) = find(ty, &short) {
+                        let renamed = SINEW_RENAMES
+                            .iter()
+                            .any(|(t, maya, sinew)| is_a(ty, t) && *maya == m.long && *sinew == long);
+                        if m.long != long && !renamed {
+                            bad.push(format!("{ty}.{short}: sinew {long}, Maya table {}", m.long));
+                        }
+                    }
+                }
+            }
+        }
+        assert!(checked > 100, "only {checked} short names checked");
+        assert!(bad.is_empty(), "{bad:#?}");
     }
 }

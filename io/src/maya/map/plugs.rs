@@ -22,6 +22,23 @@ use crate::maya::values::{ValueError, Values};
 /// Long name of one attribute name on node `i`: the Maya tables, then the node's `addAttr`
 /// short names.
 pub fn long_name(imp: &Importer, i: usize, name: &str) -> String {
+    // A node mapped to the sinew type of Maya's name: sinew's spec knows Maya's short names
+    // of the attributes it has (one table for those), this module's tables the rest.
+    if let Some(spec) = same_type_spec(imp, i) {
+        if let Some((id, comp)) = spec.find(name) {
+            let a = spec.attr(id);
+            let long = match (comp, &a.children) {
+                (Some(c), Some(ch)) => ch[c as usize].clone(),
+                _ => a.name.clone(),
+            };
+            // Back to Maya's long name where sinew renamed the attribute.
+            let maya = attrs::SINEW_RENAMES
+                .iter()
+                .find(|(t, _, s)| attrs::is_a(imp.ty(i), t) && *s == long)
+                .map_or(long, |(_, m, _)| m.to_string());
+            return maya;
+        }
+    }
     if let Some(a) = attrs::find(imp.ty(i), name) {
         return a.long.to_string();
     }
@@ -31,6 +48,16 @@ pub fn long_name(imp: &Importer, i: usize, name: &str) -> String {
         }
     }
     name.to_string()
+}
+
+/// The spec of node `i`'s sinew node when its type is the Maya type's namesake.
+fn same_type_spec<'r>(imp: &Importer<'r>, i: usize) -> Option<&'r sinew_core::NodeSpec> {
+    let node = imp.sinew(i)?;
+    let ty = imp.acc.type_of(&imp.rig, node)?;
+    if ty != imp.ty(i) {
+        return None;
+    }
+    imp.registry.spec(ty)
 }
 
 /// Segments with long names.
