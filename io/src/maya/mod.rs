@@ -107,6 +107,8 @@ pub struct InfluenceBind {
     pub skin: String,
     /// The influence's sinew node.
     pub joint: String,
+    /// Its Maya influence index (`matrix[index]`).
+    pub index: u32,
     /// `.pm[i]`: the inverse of the influence's world matrix at bind (sinew units).
     pub bind_pre_matrix: DMat4,
 }
@@ -294,6 +296,7 @@ fn bind_data(imp: &Importer) -> (Vec<JointBind>, Vec<InfluenceBind>) {
                     infl.push(InfluenceBind {
                         skin: skin.to_string(),
                         joint: joint.to_string(),
+                        index: j,
                         bind_pre_matrix: pm,
                     });
                 }

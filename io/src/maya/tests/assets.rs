@@ -129,3 +129,45 @@ fn blend_shapes_export_joint4_is_at_bind_and_joint2_was_moved() {
     b2.w_axis = glam::DVec4::W;
     assert!(rel_diff(&w2, &b2) < 1e-12);
 }
+
+/// Each scene bakes to a glTF file the Khronos validator passes without errors, over its
+/// frame range (at most 48 frames, to keep the test fast).
+#[test]
+fn every_scene_bakes_to_validator_clean_gltf() {
+    let Some(script) = crate::tests::validator::validator() else {
+        return;
+    };
+    let dir = std::env::temp_dir().join(format!("sinew-maya-bake-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut files = Vec::new();
+    for s in SCENES {
+        let Some(imp) = import_scene(s) else { return };
+        let mut g = imp.rig.to_graph(&registry()).unwrap();
+        let (a, b) = imp.rig.frames.unwrap();
+        let start = a.floor() as i64;
+        let end = (b.ceil() as i64).min(start + 47).max(start + 1);
+        let opts = crate::bake::BakeOptions {
+            start,
+            end,
+            fps: imp.rig.fps,
+            tolerance: 0.0,
+            name: s.into(),
+        };
+        let (scene, warnings) = crate::bake::bake(&mut g, &opts).unwrap_or_else(|e| panic!("{s}: {e}"));
+        eprintln!(
+            "{s}: {} nodes, {} meshes, {} skins; bake warnings {warnings:?}",
+            scene.nodes.len(),
+            scene.meshes.len(),
+            scene.skins.len()
+        );
+        assert!(!scene.nodes.is_empty());
+        let p = dir.join(s.replace(".ma", ".glb"));
+        std::fs::write(&p, crate::write_glb(&scene).unwrap()).unwrap();
+        files.push(p);
+    }
+    for r in crate::tests::validator::validate(&script, &files) {
+        eprintln!("{r}");
+        assert_eq!(r["errors"], 0, "validator errors: {r}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -3,6 +3,8 @@
 
 mod anim;
 mod assets;
+mod constructs;
+mod deform;
 
 use std::sync::Arc;
 
