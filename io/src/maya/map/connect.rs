@@ -29,6 +29,13 @@ pub fn compatible(s: AttrType, d: AttrType) -> bool {
 
 /// The Maya unit class of a plug when the tables or the node's `addAttr` know it.
 fn known_class(imp: &Importer, n: usize, segs: &[Seg]) -> Option<UnitClass> {
+    // A conversion node's plugs take whatever unit its factor expects.
+    if matches!(
+        imp.ty(n),
+        "unitConversion" | "timeToUnitConversion" | "unitToTimeConversion"
+    ) {
+        return None;
+    }
     let long = long_segs(imp, n, segs);
     let leaf = long.last()?.name.clone();
     if let Some(a) = imp.node(n).added.iter().find(|a| a.long == leaf) {

@@ -171,3 +171,40 @@ fn every_scene_bakes_to_validator_clean_gltf() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Every key of every time curve in the scenes is reproduced exactly at its key time (the
+/// value written in the file, in its UI unit: degrees, centimetres).
+#[test]
+fn every_key_of_every_curve_is_exact() {
+    let mut checked = 0;
+    for s in SCENES {
+        let Some(imp) = import_scene(s) else { return };
+        let text = crate::maya::decode_text(&std::fs::read(scene(s).unwrap()).unwrap());
+        let parsed = crate::maya::parse::parse(&text).unwrap();
+        let mut g = imp.rig.to_graph(&registry()).unwrap();
+        for n in parsed.nodes.iter().filter(|n| n.ty.starts_with("animCurveT")) {
+            for a in n
+                .attrs
+                .iter()
+                .filter(|a| a.segs[0].name == "ktv" && !a.values.is_empty())
+            {
+                let v = crate::maya::values::Values::new(&text, &a.values, a.at)
+                    .numbers()
+                    .unwrap();
+                for k in v.chunks(2) {
+                    g.set_time(sinew_core::Time::new(k[0], imp.rig.fps));
+                    let out = g.get_path(&format!("{}.output", n.name)).unwrap();
+                    assert!(
+                        out.same_bits(&sinew_core::Value::Float(k[1])),
+                        "{s} {} at {}: {out} vs {}",
+                        n.name,
+                        k[0],
+                        k[1]
+                    );
+                    checked += 1;
+                }
+            }
+        }
+    }
+    assert!(checked >= 70, "{checked} keys");
+}

@@ -5,6 +5,8 @@ mod anim;
 mod assets;
 mod constructs;
 mod deform;
+mod rigging;
+mod units;
 
 use std::sync::Arc;
 
