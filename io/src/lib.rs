@@ -10,6 +10,7 @@ pub mod gltf_read;
 pub mod gltf_write;
 pub mod import_bvh;
 pub mod import_gltf;
+pub mod maya;
 pub mod mesh_file;
 pub mod obj;
 pub mod retarget;

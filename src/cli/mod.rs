@@ -163,9 +163,9 @@ enum Command {
         #[arg(long)]
         lazy: bool,
     },
-    /// Import a glTF (.gltf/.glb) or BVH file as a rig (RIG.ron plus its data file RIG.data.ron).
+    /// Import a Maya ASCII (.ma), glTF (.gltf/.glb) or BVH file as a rig (RIG.ron plus its data file RIG.data.ron).
     Import {
-        /// The model or motion file.
+        /// The scene, model or motion file.
         model: PathBuf,
         /// The rig file to write.
         #[arg(short, long)]
@@ -176,6 +176,12 @@ enum Command {
         /// glTF: the rig's frame rate (default 30; playback is exact at any rate).
         #[arg(long)]
         fps: Option<f64>,
+        /// Maya: multiply every length by this factor (0.01: centimetres to metres).
+        #[arg(long)]
+        scale: Option<f64>,
+        /// Maya: fail when a node type or connection that changes the rig is skipped.
+        #[arg(long)]
+        strict: bool,
     },
     /// Evaluate a rig over frames and write a glTF (.glb or .gltf) with skeleton, skins, morphs and animation.
     Bake {
@@ -386,11 +392,17 @@ fn execute(cli: Cli, out: &mut Output<'_>) -> Result<(), CliError> {
             output,
             animation,
             fps,
+            scale,
+            strict,
         } => out.text(&import_cmd::import(
             &model,
             &output,
-            animation.as_deref(),
-            fps,
+            &import_cmd::ImportFlags {
+                animation: animation.as_deref(),
+                fps,
+                scale,
+                strict,
+            },
             &registry,
         )?)?,
         Command::Bake {
