@@ -315,7 +315,9 @@ fn execute(cli: Cli, out: &mut Output<'_>) -> Result<(), CliError> {
     }
     match cli.command {
         Command::Nodes { markdown: true, .. } => out.text(&nodes_cmd::markdown(&registry))?,
-        Command::Nodes { node_type, json, rig, .. } => match rig {
+        Command::Nodes {
+            node_type, json, rig, ..
+        } => match rig {
             Some(rig) => {
                 let node = node_type.ok_or("--rig needs a node name: sinew nodes NODE --rig RIG.ron")?;
                 let loaded = rig_cmds::load(&rig, &registry)?;

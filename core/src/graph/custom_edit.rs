@@ -158,7 +158,11 @@ impl Graph {
         let first = n.base.spec().groups().len();
         let edges: Vec<(AttrId, AttrId)> = spec.groups()[first..]
             .iter()
-            .flat_map(|g| g.outputs.iter().flat_map(move |&o| g.inputs.iter().map(move |&i| (i, o))))
+            .flat_map(|g| {
+                g.outputs
+                    .iter()
+                    .flat_map(move |&o| g.inputs.iter().map(move |&i| (i, o)))
+            })
             .collect();
         for (i, o) in edges {
             // Orders the edge i -> o forward, or gives the path o -> .. -> i it would close.
