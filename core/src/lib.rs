@@ -17,6 +17,7 @@ pub mod kernel;
 pub mod mat_kernel;
 pub mod node;
 pub mod path;
+pub mod profile;
 pub mod program;
 pub mod program_bin;
 mod program_codec;
@@ -37,6 +38,7 @@ pub use graph::{EvalStats, Graph, NodeId, Plug};
 pub use kernel::{finite, KernelNode, ScalarKernel, ScalarOp, MAX_KERNEL_INPUTS};
 pub use mat_kernel::{MatrixFn, MatrixKernel};
 pub use node::{ComputeContext, KnownInputs, NodeType, Time};
+pub use profile::{ProfileRow, ProfileTable, Profiler, StepTiming};
 pub use program::{evaluate_batch, CompileOptions, Instance, PlugHandle, Program};
 pub use registry::Registry;
 pub use rig::{

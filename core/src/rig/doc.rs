@@ -156,6 +156,16 @@ impl RigDocument {
     pub fn component(&self, name: &str) -> Option<&ComponentDef> {
         self.components.iter().find(|c| c.name == name)
     }
+
+    /// The data files the loader read values from (`File("body.obj")` references),
+    /// normalized, each once: with [`super::rig_dependencies`], every file a loaded rig
+    /// depends on (what a watcher watches).
+    pub fn referenced_files(&self) -> Vec<PathBuf> {
+        let mut v: Vec<PathBuf> = self.file_values.iter().map(|(_, p)| p.clone()).collect();
+        v.sort();
+        v.dedup();
+        v
+    }
 }
 
 const RIG_FIELDS: [&str; 8] = [

@@ -493,3 +493,18 @@ pub fn write_value(v: &Value, attr: Option<&AttrSpec>) -> Ast {
         Value::Object(_) => Ast::Ident("None".into()),
     }
 }
+
+/// Parses `text` (RON syntax, as in rig files: `1.5`, `(1, 2, 3)`, `true`, an enum name)
+/// as a value for `plug` of `graph`, by the plug's declared type. Used by
+/// `sinew eval --set` and the viewer's attribute fields.
+pub fn parse_plug_value(graph: &crate::graph::Graph, plug: crate::graph::Plug, text: &str) -> Result<Value, String> {
+    let ty = graph.plug_type(plug).map_err(|e| e.to_string())?;
+    let spec = graph.node_spec(plug.node).ok_or("stale node")?;
+    let attr = (plug.component.is_none()).then(|| spec.attr(plug.attr));
+    let file: Arc<std::path::Path> = Arc::from(std::path::Path::new("<value>"));
+    let node = super::parse::parse(text, &file).map_err(|d| format!("cannot parse {text:?}: {}", d.message))?;
+    read_value(&node, ty, attr, &graph.plug_name(plug)).map_err(|d| match d.hint {
+        Some(h) => format!("{} ({h})", d.message),
+        None => d.message,
+    })
+}
