@@ -29,6 +29,7 @@ mod slots;
 pub mod spec;
 mod tape;
 pub mod testing;
+pub mod validate;
 pub mod value;
 pub mod value_file;
 
@@ -49,4 +50,5 @@ pub use spec::{
     AttrId, AttrSpec, ComputeGroup, DagLink, DagSpec, Direction, Input, MirrorRole, MultiInput, MultiOutput, NodeSpec,
     Output, SpecBuilder, Unit,
 };
+pub use validate::{Problem, ValidateInputs};
 pub use value::{AttrType, AttrValue, ObjectRef, SharedData, Value};

@@ -36,3 +36,6 @@ pub fn registry() -> Result<Arc<Registry>, SpecError> {
     register_all(&mut r)?;
     Ok(Arc::new(r))
 }
+
+#[cfg(test)]
+mod tests_validate;
