@@ -12,6 +12,7 @@
 use std::collections::{HashMap, HashSet};
 use std::path::Path;
 
+use super::custom_decl::write_attrs;
 use super::doc::{print_document, PrintBody, PrintNode, RigDocument};
 use super::fmt_comments::Ids;
 use super::parse::{Ast, Node};
@@ -154,7 +155,10 @@ pub fn save_rig(graph: &Graph, doc: &RigDocument) -> String {
                 break;
             };
             let parent = graph.parent_of(id).and_then(|p| graph.node_name(p));
-            if graph.node_type(id) != Some(rn.type_name.as_str()) || parent != rn.parent.as_deref() {
+            if graph.node_type(id) != Some(rn.type_name.as_str())
+                || parent != rn.parent.as_deref()
+                || !same_decls(graph.custom_attrs(id), &rn.custom)
+            {
                 ok = false;
                 break;
             }
@@ -216,6 +220,9 @@ pub fn save_rig(graph: &Graph, doc: &RigDocument) -> String {
         };
         let mut fields: Vec<(String, Ast)> = Vec::new();
         for attr in spec.attr_ids() {
+            if attr == spec.first_custom() {
+                fields.push(("attrs".to_string(), write_attrs(spec.custom_attrs())));
+            }
             let a = spec.attr(attr);
             if !a.is_input() {
                 continue;
@@ -391,7 +398,12 @@ fn with_comments(text: &str, orig: &Node, graph: &Graph) -> String {
     super::fmt_print::print_file(&tree)
 }
 
-/// Compares two graphs: node names, types and parents, authored input
+/// Whether two lists of custom attribute declarations say the same.
+fn same_decls(a: &[AttrSpec], b: &[AttrSpec]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.same_decl(y))
+}
+
+/// Compares two graphs: node names, types and parents, custom attributes, authored input
 /// values (bitwise; driven plugs are skipped), multi-input element sets,
 /// and connections. `Err` describes the first difference.
 pub fn graph_eq(a: &Graph, b: &Graph) -> Result<(), String> {
@@ -423,6 +435,13 @@ pub fn graph_eq(a: &Graph, b: &Graph) -> Result<(), String> {
         let pb = b.parent_of(ib).and_then(|p| b.node_name(p));
         if pa != pb {
             return Err(format!("{name}: parent {pa:?} vs {pb:?}"));
+        }
+        if !same_decls(a.custom_attrs(ia), b.custom_attrs(ib)) {
+            return Err(format!(
+                "{name}: custom attributes {:?} vs {:?}",
+                a.custom_attrs(ia),
+                b.custom_attrs(ib)
+            ));
         }
         let Some(spec) = a.node_spec(ia) else { continue };
         for attr in spec.attr_ids() {
