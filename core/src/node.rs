@@ -17,6 +17,7 @@ use crate::mat_kernel::MatrixKernel;
 use crate::program::{AttrBinding, Binding, CompiledTables, ElemBinding};
 use crate::slots::Slots;
 use crate::spec::{AttrId, AttrSpec, Input, MultiInput, MultiOutput, NodeSpec, Output};
+pub use crate::validate::{Problem, ValidateInputs};
 use crate::value::{AttrValue, SharedData, Value};
 
 /// A node type: its spec and its compute function.
@@ -66,6 +67,17 @@ pub trait NodeType: Send + Sync + 'static {
     /// default lists nothing.
     fn unread_inputs(&self, known: &KnownInputs<'_>) -> Vec<AttrId> {
         let _ = known;
+        Vec::new()
+    }
+
+    /// Checks the node's input values for data that evaluation would refuse or silently
+    /// get wrong (a weight table shorter than its mesh, unsorted keys, a knot vector of
+    /// the wrong length), before any evaluation: `sinew check` and every rig load report
+    /// each [`Problem`] at the position of the value the rig file wrote, with the
+    /// numbers involved. `inputs` gives authored values, defaults and values arriving
+    /// from static upstream data (see [`ValidateInputs`]). The default finds nothing.
+    fn validate(&self, inputs: &ValidateInputs<'_>) -> Vec<Problem> {
+        let _ = inputs;
         Vec::new()
     }
 

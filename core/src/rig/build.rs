@@ -997,11 +997,14 @@ pub fn load_rig_with_limits(
     let file_values = exp.file_values.take();
     drop(exp);
     let mut doc = Rc::try_unwrap(scope).map(|f| f.doc).unwrap_or_else(|rc| rc.doc.clone());
+    let mut graph = graph;
+    if diags.is_empty() {
+        super::checks::report(&flat, &mut graph, &mut diags);
+    }
     if !diags.is_empty() {
         diags.finish();
         return Err(diags);
     }
-    let mut graph = graph;
     // Canonical names for the connections each use made.
     for r in &mut records {
         r.connections = r
