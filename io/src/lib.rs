@@ -1,5 +1,5 @@
 //! Interchange file formats as pure readers and writers over plain Rust structs:
-//! BVH motion capture in, glTF 2.0 in and out. Nothing here touches the graph; the
+//! BVH motion capture in, glTF 2.0 in and out, Wavefront OBJ in and out. Nothing here touches the graph; the
 //! importer and baker map these structs to and from graph nodes.
 
 pub mod bake;
@@ -11,6 +11,7 @@ pub mod gltf_write;
 pub mod import_bvh;
 pub mod import_gltf;
 pub mod mesh_file;
+pub mod obj;
 pub mod retarget;
 pub mod retarget_feet;
 mod retarget_map;

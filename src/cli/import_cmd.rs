@@ -4,6 +4,7 @@
 use std::path::Path;
 use std::sync::Arc;
 
+use sinew_core::files::{read_text, DATA};
 use sinew_core::Registry;
 
 use crate::io::import_bvh::{import_bvh, BvhImportOptions};
@@ -19,6 +20,7 @@ pub fn import(
     fps: Option<f64>,
     registry: &Arc<Registry>,
 ) -> Result<String, String> {
+    super::paths::check_rig_output(&[model], out)?;
     let ext = model
         .extension()
         .and_then(|e| e.to_str())
@@ -42,7 +44,7 @@ pub fn import(
                     "--animation and --fps apply to glTF files; a BVH has one take at its own frame rate".into(),
                 );
             }
-            let text = std::fs::read_to_string(model).map_err(|e| format!("cannot read {}: {e}", model.display()))?;
+            let text = read_text(model, DATA).map_err(|e| format!("cannot read {}: {e}", model.display()))?;
             let bvh = parse_bvh(&text).map_err(|e| format!("{}:{e}", model.display()))?;
             (import_bvh(&bvh, &BvhImportOptions { name: stem })?.rig, Vec::new())
         }

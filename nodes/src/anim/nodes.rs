@@ -183,6 +183,18 @@ impl AnimCurveNode {
         let post = s.input_enum("postInfinity", &inf, 0);
         let weighted = s.input("weightedTangents", false);
         let input = (!kind.time_driven()).then(|| s.input("input", 0.0));
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        s.maya_names(&[
+            ("keyInTangentType", "kit"),
+            ("keyOutTangentType", "kot"),
+            ("preInfinity", "pre"),
+            ("postInfinity", "pst"),
+            ("weightedTangents", "wgt"),
+            ("output", "o"),
+        ]);
+        if input.is_some() {
+            s.maya_names(&[("input", "i")]);
+        }
         let cache = s.output("curveCache", ObjectRef::default());
         let output = s.output("output", 0.0);
         if kind.time_driven() {

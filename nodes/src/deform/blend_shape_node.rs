@@ -101,6 +101,13 @@ impl BlendShape {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut s = NodeSpec::builder("blendShape");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        s.maya_names(&[
+            ("inputGeometry", "ig"),
+            ("weight", "w"),
+            ("envelope", "en"),
+            ("outputGeometry", "og"),
+        ]);
         s.doc("adds weighted sparse target deltas (with in-betweens and weight maps) to inputGeometry");
         let input = s.input("inputGeometry", Arc::new(Mesh::default()));
         let weight = s.multi_input("weight", 0.0);

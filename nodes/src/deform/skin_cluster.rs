@@ -128,6 +128,17 @@ impl SkinCluster {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut s = NodeSpec::builder("skinCluster");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        s.maya_names(&[
+            ("inputGeometry", "ig"),
+            ("matrix", "ma"),
+            ("bindPreMatrix", "pm"),
+            ("weightList", "wl"),
+            ("maxInfluences", "mi"),
+            ("skinningMethod", "skm"),
+            ("envelope", "en"),
+            ("outputGeometry", "og"),
+        ]);
         s.doc("skins inputGeometry by joint matrices (linear, dual quaternion or weight-blended)");
         let input = s.input("inputGeometry", Arc::new(Mesh::default()));
         let matrix = s.multi_input("matrix", DMat4::IDENTITY);

@@ -40,6 +40,8 @@ impl IkSpline {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut b = NodeSpec::builder("ikSpline");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        b.maya_names(&[("twist", "twi")]);
         b.doc("spline IK: chain rest data and a world-space curve in; joint rotations and translates out");
         let chain = ChainInputs::declare(&mut b);
         let curve = b.input("curve", Arc::new(Curve::default()));

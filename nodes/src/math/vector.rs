@@ -23,6 +23,8 @@ impl DistanceBetween {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut s = NodeSpec::builder("distanceBetween");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        s.maya_names(&[("point2", "p2"), ("distance", "d")]);
         s.doc("distance = |inMatrix2 * point2 - inMatrix1 * point1|");
         let point1 = s.input("point1", DVec3::ZERO);
         let point2 = s.input("point2", DVec3::ZERO);
@@ -81,6 +83,8 @@ impl VectorProduct {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut s = NodeSpec::builder("vectorProduct");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        s.maya_names(&[("operation", "op"), ("input1", "i1"), ("input2", "i2"), ("output", "o")]);
         s.doc("dot, cross, vector-matrix or point-matrix product of input1 (and input2)");
         let operation = s.input_enum(
             "operation",

@@ -49,6 +49,13 @@ impl BlendMatrix {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut s = NodeSpec::builder("blendMatrix");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        s.maya_names(&[
+            ("inputMatrix", "imat"),
+            ("targetMatrix", "tmat"),
+            ("weight", "wgt"),
+            ("outputMatrix", "omat"),
+        ]);
         s.doc("blends inputMatrix successively toward targetMatrix[i] by weight[i], scaled by envelope");
         let input = s.input("inputMatrix", DMat4::IDENTITY);
         let enable = s.input("enable", true);
@@ -136,6 +143,14 @@ impl AimMatrix {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut s = NodeSpec::builder("aimMatrix");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        s.maya_names(&[
+            ("enable", "enb"),
+            ("envelope", "env"),
+            ("inputMatrix", "imat"),
+            ("outputMatrix", "tmat"),
+            ("secondaryMode", "sm"),
+        ]);
         s.doc("orients inputMatrix so primaryInputAxis aims at/aligns with a target, secondary axis toward another");
         let input = s.input("inputMatrix", DMat4::IDENTITY);
         let enable = s.input("enable", true);
