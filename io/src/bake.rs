@@ -267,9 +267,9 @@ pub fn bake(graph: &mut Graph, opts: &BakeOptions) -> Result<(Scene, Vec<String>
         scene.nodes.push(Node {
             name: Some(name(graph, n)),
             parent: parent_idx[i],
-            translation: t,
-            rotation: r,
-            scale: s,
+            translation: t.as_dvec3(),
+            rotation: r.as_dquat(),
+            scale: s.as_dvec3(),
             ..Default::default()
         });
         if let Some(p) = parent_idx[i] {
@@ -455,7 +455,7 @@ pub fn bake(graph: &mut Graph, opts: &BakeOptions) -> Result<(Scene, Vec<String>
     }
     for (k, w) in morph.iter().enumerate() {
         let width = weight_h[k].len();
-        scene.nodes[morph_nodes[k]].weights = w[..width].to_vec();
+        scene.nodes[morph_nodes[k]].weights = w[..width].iter().map(|&x| f64::from(x)).collect();
     }
     let times: Vec<f32> = frames
         .iter()
@@ -479,9 +479,9 @@ pub fn bake(graph: &mut Graph, opts: &BakeOptions) -> Result<(Scene, Vec<String>
             rs.push(q.to_array());
         }
         let rest_node = &scene.nodes[i];
-        let rest_t = [rest_node.translation.to_array()];
-        let rest_s = [rest_node.scale.to_array()];
-        let rest_r = rest_node.rotation;
+        let rest_t = [rest_node.translation.as_vec3().to_array()];
+        let rest_s = [rest_node.scale.as_vec3().to_array()];
+        let rest_r = rest_node.rotation.as_quat();
         push_channel(
             &mut anim,
             i,

@@ -7,6 +7,7 @@ use std::path::PathBuf;
 mod bvh;
 mod gltf_read;
 mod gltf_write;
+mod precision;
 mod validator;
 
 /// The shared third-party assets folder, or `None` (after printing why) when absent.
