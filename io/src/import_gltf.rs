@@ -186,7 +186,7 @@ pub fn import_scene(scene: &Scene, opts: &GltfImportOptions) -> Result<GltfImpor
                     deltas.push(Value::Vec3Array(Arc::new(dd)));
                 }
                 let w: Vec<Value> = (0..prim.targets.len())
-                    .map(|t| Value::Float(weights.get(t).copied().unwrap_or(0.0) as f64))
+                    .map(|t| Value::Float(weights.get(t).copied().unwrap_or(0.0)))
                     .collect();
                 rig.set_multi(k, "weight", w);
                 rig.set_multi(k, "targetIndices", idx);
