@@ -32,7 +32,7 @@ pub mod testing;
 pub mod value;
 pub mod value_file;
 
-pub use data::{Curve, CurveForm, Mesh, Weights};
+pub use data::{Curve, CurveForm, Mesh, Surface, Weights};
 pub use error::{ComputeError, Error, Result, SpecError};
 pub use graph::{EvalStats, Graph, NodeId, Plug};
 pub use kernel::{finite, KernelNode, ScalarKernel, ScalarOp, MAX_KERNEL_INPUTS};

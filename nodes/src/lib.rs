@@ -13,6 +13,8 @@ pub mod constraint;
 pub mod deform;
 pub mod ik;
 pub mod math;
+pub mod nurbs;
+pub mod pin;
 #[cfg(feature = "skeletonize")]
 pub mod skeletonize;
 pub mod transform;
@@ -25,6 +27,8 @@ pub fn register_all(registry: &mut Registry) -> Result<(), SpecError> {
     constraint::register(registry)?;
     ik::register(registry)?;
     deform::register(registry)?;
+    nurbs::register(registry)?;
+    pin::register(registry)?;
     #[cfg(feature = "skeletonize")]
     skeletonize::register(registry)?;
     Ok(())
