@@ -121,6 +121,7 @@ mod rest_memo;
 pub mod snap;
 pub mod soft;
 pub mod spline;
+pub mod spring;
 pub mod two_bone;
 
 pub use node_chain::{
@@ -147,10 +148,13 @@ mod tests_shortcuts;
 mod tests_snap;
 #[cfg(test)]
 mod tests_spline;
+#[cfg(test)]
+mod tests_spring;
 
-/// Registers this family's node types: `ikRP`, `ikSC`, `ikSpline` and `curveFromPoints`.
+/// Registers this family's node types: `ikRP`, `ikSpring`, `ikSC`, `ikSpline` and `curveFromPoints`.
 pub fn register(registry: &mut sinew_core::Registry) -> Result<(), sinew_core::SpecError> {
     registry.register(nodes_rp::IkRp::new()?)?;
+    registry.register(nodes_rp::IkRp::spring()?)?;
     registry.register(nodes_sc::IkSc::new()?)?;
     registry.register(nodes_spline::IkSpline::new()?)?;
     registry.register(curve_node::CurveFromPoints::new()?)?;

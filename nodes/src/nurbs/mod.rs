@@ -27,7 +27,7 @@ pub mod surface_eval;
 pub mod surface_nodes;
 
 #[cfg(test)]
-mod tests_eval;
+pub(crate) mod tests_eval;
 #[cfg(test)]
 pub(crate) mod tests_nodes;
 

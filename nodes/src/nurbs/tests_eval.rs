@@ -23,7 +23,7 @@ fn curve(degree: u32, pts: &[[f64; 3]]) -> Curve {
     }
 }
 
-pub(super) fn surface(du: u32, dv: u32, rows: &[&[[f64; 3]]]) -> Surface {
+pub(crate) fn surface(du: u32, dv: u32, rows: &[&[[f64; 3]]]) -> Surface {
     Surface {
         degree_u: du,
         degree_v: dv,
