@@ -128,3 +128,54 @@ fn ribbon_tail_compiled_matches_lazy() {
         }
     }
 }
+
+fn sinew(args: &[&str]) -> (i32, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_sinew"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("run sinew");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// `sinew check`, `eval` and `bake` run cleanly on the example (exit 0, nothing on stderr).
+#[test]
+fn ribbon_tail_checks_evaluates_and_bakes() {
+    let rig = "graphs/examples/ribbon_tail.ron";
+    let (code, out, err) = sinew(&["check", rig]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(out.contains("ok: 27 nodes") && err.is_empty(), "{out}{err}");
+    let (code, out, err) = sinew(&[
+        "eval",
+        rig,
+        "--frames",
+        "1..=2",
+        "--print",
+        "spine_mid.translate,tail_length.arcLength",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.is_empty(), "{err}");
+    // frame 1: the follicle at the ribbon's midpoint (0, 2.5, 0)
+    let first = out.lines().nth(1).expect("a row per frame");
+    assert!(first.starts_with("1,0.0,2.5,0.0,"), "{out}");
+    let dir = std::env::temp_dir().join(format!("sinew_ribbon_tail_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let glb = dir.join("ribbon_tail.glb");
+    let (code, out, err) = sinew(&[
+        "bake",
+        rig,
+        "--frames",
+        "1..=48",
+        "--fps",
+        "24",
+        "-o",
+        glb.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(std::fs::metadata(&glb).unwrap().len() > 1000);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -8,14 +8,14 @@ use glam::DVec3;
 
 use super::diag::Diagnostic;
 use super::parse::{Ast, Node};
-use super::typed::{fields, fl, list, number, numbers, strukt, synth, tuple};
+use super::typed::{fields, fl, int_of, list, number, numbers, strukt, synth, tuple};
 use crate::data::{CurveForm, Surface};
 use crate::value::{AttrType, Value};
 
 /// A degree field of a curve or surface: an integer from 1 to 7.
 pub(super) fn degree(v: &Node, what: &str) -> Result<u32, Diagnostic> {
-    match v.kind {
-        Ast::Int(d) if (1..=7).contains(&d) => Ok(d as u32),
+    match int_of(&v.kind) {
+        Some(d) if (1..=7).contains(&d) => Ok(d as u32),
         _ => Err(
             Diagnostic::new(v.span.clone(), format!("{what} degree must be an integer from 1 to 7"))
                 .hint("e.g. degree: 3"),
