@@ -6,7 +6,7 @@ use sinew_core::{ComputeContext, ComputeError, Input, NodeSpec, NodeType, Output
 
 use super::common::{declare_parent_inverse, ids, parent_world, Channel, ChildPivot, ChildRotation};
 use super::geometry_targets::{weighted, GeometryTargets, Hit, Kinds};
-use super::orient::WORLD_UP_TYPES;
+use super::orient::{world_up, WORLD_UP_TYPES};
 use super::rotation_path::local_rotation_mat3;
 use crate::transform::orient::aim_matrix;
 
@@ -266,15 +266,12 @@ impl AimAtGeometry {
     fn aim(&self, ctx: &ComputeContext<'_>, from: DVec3, dir: DVec3) -> DMat3 {
         let aim = ctx.get(self.aim_vector);
         let up = ctx.get(self.up_vector);
-        let wu = ctx.get(self.world_up_vector);
-        let wum = ctx.get(self.world_up_matrix);
-        let world_up = match ctx.get(self.world_up_type) {
-            0 => DVec3::Y,
-            1 => wum.w_axis.truncate() - from,
-            2 => wum.transform_vector3(wu),
-            4 => DVec3::ZERO,
-            _ => wu,
-        };
+        let world_up = world_up(
+            ctx.get(self.world_up_type),
+            from,
+            ctx.get(self.world_up_vector),
+            ctx.get(self.world_up_matrix),
+        );
         aim_matrix(DVec3::ZERO, dir, aim, up, world_up)
     }
 }

@@ -90,6 +90,7 @@ mod tests_props;
 pub use common::{INTERP_TYPES, ROTATE_ORDERS};
 pub use geometry::{AimAtGeometry, GeometryConstraint};
 pub use helpers::{constrain, maintain_offset, ConstraintKind};
+pub(crate) use orient::world_up;
 pub use orient::{AimConstraint, OrientConstraint, WORLD_UP_TYPES};
 pub use parent::{ParentConstraint, PointConstraint};
 pub use point_on_poly::PointOnPolyConstraint;

@@ -139,7 +139,7 @@ mod tests_fast;
 #[cfg(test)]
 mod tests_nodes;
 #[cfg(test)]
-mod tests_nodes_robust;
+pub(crate) mod tests_nodes_robust;
 #[cfg(test)]
 mod tests_nodes_spline;
 #[cfg(test)]

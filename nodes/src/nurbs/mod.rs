@@ -29,6 +29,8 @@ pub mod surface_nodes;
 #[cfg(test)]
 pub(crate) mod tests_eval;
 #[cfg(test)]
+mod tests_nan;
+#[cfg(test)]
 pub(crate) mod tests_nodes;
 
 use sinew_core::{Registry, SpecError};

@@ -6,7 +6,7 @@ use sinew_core::{ComputeContext, ComputeError, Input, NodeSpec, NodeType, Output
 use super::cache::{curve_of, CurveIn};
 use super::curve_eval::frenet;
 use super::frame::axes_frame;
-use crate::constraint::ROTATE_ORDERS;
+use crate::constraint::{world_up, ROTATE_ORDERS};
 use crate::transform::dag_nodes::rad_to_deg;
 use crate::transform::euler::{mat3_to_euler, RotateOrder};
 
@@ -220,11 +220,8 @@ impl MotionPath {
         let wu = ctx.get(self.world_up_vector);
         let wum = ctx.get(self.world_up_matrix);
         let mut up = match ctx.get(self.world_up_type) {
-            0 => DVec3::Y,
-            1 => wum.w_axis.truncate() - e.position,
-            2 => wum.transform_vector3(wu),
             4 => f.normalized_normal,
-            _ => wu,
+            kind => world_up(kind, e.position, wu, wum),
         };
         if ctx.get(self.inverse_up) {
             up = -up;

@@ -4,7 +4,7 @@
 
 use std::sync::Arc;
 
-use glam::{DMat3, DMat4, DQuat, DVec3};
+use glam::{DMat3, DMat4, DVec3};
 use sinew_core::{CompileOptions, Curve, CurveForm, Graph, Instance, Program, Surface, Time, Value};
 
 use super::tests_eval::surface;
@@ -477,5 +477,4 @@ fn surface_errors_and_rig_text() {
         e.contains("pointOnSurfaceInfo.inputSurface") && e.contains("in u"),
         "{e}"
     );
-    let _ = DQuat::IDENTITY;
 }
