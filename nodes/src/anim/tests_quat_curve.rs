@@ -168,3 +168,34 @@ fn the_time_step_at_600_seconds_is_exact() {
     let step = sample(&mut g, 43_201.0) - sample(&mut g, 43_200.0);
     assert!((step - 1.0 / 72.0).abs() < 1e-12, "{step}");
 }
+
+/// A glTF key stored as `f32` (0.6 s is `0.6000000238…f32`) is reached by the frame that
+/// means it: frame 18 at 30 fps is 0.6 s in `f64`, half an `f32` ulp below the key. A STEP
+/// channel must show that key there, as the `f32` glTF sampler does, and a time clearly
+/// before the key (one `f32` ulp) still holds the earlier key.
+#[test]
+fn frame_times_land_on_f32_keys() {
+    let mut g = graph();
+    g.add_node("vectorCurve", "v").unwrap();
+    let key = f64::from(0.6f32);
+    g.set_path("v.keyTime", arr(&[0.0, key])).unwrap();
+    g.set_path("v.keyValue", arr(&[1.0, 2.0, 3.0, 4.0, 5.0, 6.0])).unwrap();
+    g.set_path("v.interpolation", Value::Enum(1)).unwrap(); // step
+    let program = Arc::new(Program::compile(&g, &CompileOptions::default()).unwrap());
+    let h = program.handle("v.output").unwrap();
+    let mut inst = Instance::new(program);
+    let at = |g: &mut Graph, inst: &mut Instance, time: Time| {
+        g.set_time(time);
+        let lazy = g.get_path("v.output").unwrap();
+        inst.evaluate(time).unwrap();
+        assert!(lazy.same_bits(&inst.get(&h)));
+        vec3(&lazy)
+    };
+    assert!(Time::new(18.0, 30.0).seconds() < key);
+    assert_eq!(at(&mut g, &mut inst, Time::new(18.0, 30.0)), DVec3::new(4.0, 5.0, 6.0));
+    let ulp_before = f64::from(f32::from_bits(0.6f32.to_bits() - 1));
+    assert_eq!(
+        at(&mut g, &mut inst, Time::new(ulp_before, 1.0)),
+        DVec3::new(1.0, 2.0, 3.0)
+    );
+}
