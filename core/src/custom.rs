@@ -391,6 +391,14 @@ impl NodeType for CustomNode {
     fn custom_affects(&self, custom: &[AttrSpec], first: AttrId) -> Result<CustomAffects, String> {
         self.base.custom_affects(custom, first)
     }
+
+    fn authoring_fields(&self) -> &[crate::rig::expand::AuthoringField] {
+        self.base.authoring_fields()
+    }
+
+    fn expand(&self, cx: &mut crate::rig::expand::ExpandContext<'_>) {
+        self.base.expand(cx)
+    }
 }
 
 /// The node type of a node of type `base` with `custom` attributes: `base` itself when

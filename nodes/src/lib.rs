@@ -9,6 +9,7 @@ use std::sync::Arc;
 use sinew_core::{Registry, SpecError};
 
 pub mod anim;
+pub mod authoring;
 pub mod constraint;
 pub mod deform;
 pub mod ik;

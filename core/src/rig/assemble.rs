@@ -67,7 +67,13 @@ fn resolve(graph: &Graph, path: &str, span: &Span, broken: &HashSet<&str>, diags
 
 type EdgeKey = (NodeId, AttrId, NodeId, AttrId);
 
-pub(super) fn build_graph(flat: &Flat, registry: &Arc<Registry>, diags: &mut Diagnostics) -> Graph {
+/// Builds the graph of `flat`; returns it with the id of each flat node (`None` where the
+/// node could not be created).
+pub(super) fn build_graph(
+    flat: &Flat,
+    registry: &Arc<Registry>,
+    diags: &mut Diagnostics,
+) -> (Graph, Vec<Option<NodeId>>) {
     let mut g = Graph::new(registry.clone());
     let mut first: HashMap<&str, &FlatNode> = HashMap::new();
     let mut broken: HashSet<&str> = HashSet::new();
@@ -227,5 +233,5 @@ pub(super) fn build_graph(flat: &Flat, registry: &Arc<Registry>, diags: &mut Dia
             Err(e) => diags.push(Diagnostic::new(c.src_span.clone(), e.to_string()).hint("check the connection")),
         }
     }
-    g
+    (g, ids)
 }

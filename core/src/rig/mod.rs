@@ -22,6 +22,8 @@ mod custom_decl;
 pub mod diag;
 pub mod doc;
 mod doc_print;
+pub mod expand;
+mod expand_run;
 mod export;
 pub mod mirror;
 pub mod parse;
