@@ -284,3 +284,119 @@ fn heat_weights_follow_the_bones() {
         }
     }
 }
+
+mod orient {
+    use super::*;
+    use sinew_nodes::transform::orient_joints::{orient_joints, OrientJoints};
+
+    const CHAIN: &str = r#"Rig(nodes: {
+        "root": joint(translate: (0.1, 1.0, -0.2), rotate: (10, 20, 30), jointOrient: (5, 0, -40)),
+        "a": joint(parent: "root", translate: (0.4, 0.1, 0.05), rotate: (0, -15, 0), rotateOrder: zxy),
+        "b": joint(parent: "a", translate: (0.35, -0.02, 0.1), rotateAxis: (0, 0, 12)),
+        "c": joint(parent: "b", translate: (0.2, 0, 0)),
+        "side": joint(parent: "a", translate: (0, 0.1, 0.1), rotate: (3, 4, 5)),
+        "ctrl": transform(parent: "b", translate: (0, 0.2, 0), rotate: (0, 0, 45)),
+    })"#;
+
+    fn worlds(g: &mut Graph) -> Vec<(String, DMat4)> {
+        let names: Vec<String> = g
+            .nodes()
+            .iter()
+            .filter_map(|&n| g.node_name(n).map(str::to_string))
+            .collect();
+        names
+            .into_iter()
+            .map(|n| (n.clone(), matrix(g, &format!("{n}.worldMatrix"))))
+            .collect()
+    }
+
+    #[test]
+    fn orienting_keeps_positions_and_aims_at_the_child() {
+        for (aim, up, world_up) in [(0, 1, DVec3::Y), (1, 2, DVec3::Z), (2, 0, -DVec3::X)] {
+            let mut g = load(CHAIN).graph;
+            let before = worlds(&mut g);
+            let opts = OrientJoints {
+                aim,
+                up,
+                world_up,
+                joints: None,
+                children: false,
+            };
+            let done = orient_joints(&mut g, &opts).unwrap();
+            assert_eq!(done, ["root", "a", "b", "side", "c"]);
+            let after = worlds(&mut g);
+            for ((n, w0), (_, w1)) in before.iter().zip(&after) {
+                let d = (w1.w_axis - w0.w_axis).length();
+                assert!(d < 1e-12, "{n} moved by {d}");
+            }
+            let w = |n: &str| after.iter().find(|x| x.0 == n).unwrap().1;
+            for (j, child) in [("root", "a"), ("a", "b"), ("b", "c")] {
+                let dir = (w(child).w_axis - w(j).w_axis).truncate().normalize();
+                let axis = w(j).col(aim).truncate();
+                assert!((axis.dot(dir) - 1.0).abs() < 1e-12, "{j}: aim axis {axis} vs {dir}");
+                // The up axis is in the plane of the aim and the world up, on its side.
+                let upv = w(j).col(up).truncate();
+                assert!(
+                    upv.dot(dir.cross(world_up)).abs() < 1e-12 && upv.dot(world_up) > 0.0,
+                    "{j}: up {upv}"
+                );
+                // Everything is in jointOrient now.
+                for attr in ["rotate", "rotateAxis"] {
+                    let v = g.stored(g.plug(&format!("{j}.{attr}")).unwrap()).unwrap();
+                    assert!(v.same_bits(&Value::Vec3(DVec3::ZERO)), "{j}.{attr} = {v}");
+                }
+            }
+            // An end joint takes its parent's orientation.
+            let (c, b) = (w("c"), w("b"));
+            for k in 0..3 {
+                assert!((c.col(k) - b.col(k)).length() < 1e-12);
+            }
+            // A transform below an oriented joint keeps its whole world matrix.
+            let ctrl0 = before.iter().find(|x| x.0 == "ctrl").unwrap().1;
+            let diff = (w("ctrl") - ctrl0)
+                .to_cols_array()
+                .iter()
+                .fold(0f64, |m, x| m.max(x.abs()));
+            assert!(diff < 1e-12, "ctrl moved by {diff}");
+        }
+    }
+
+    #[test]
+    fn a_subset_keeps_the_other_joints_world_matrices() {
+        let mut g = load(CHAIN).graph;
+        let before = worlds(&mut g);
+        let opts = OrientJoints {
+            aim: 0,
+            up: 1,
+            world_up: DVec3::Y,
+            joints: Some(vec!["a".into()]),
+            children: false,
+        };
+        assert_eq!(orient_joints(&mut g, &opts).unwrap(), ["a"]);
+        let after = worlds(&mut g);
+        for ((n, w0), (_, w1)) in before.iter().zip(&after) {
+            let tol = if n == "a" { f64::INFINITY } else { 1e-12 };
+            let d = (*w1 - *w0).to_cols_array().iter().fold(0f64, |m, x| m.max(x.abs()));
+            assert!(d < tol, "{n} changed by {d}");
+        }
+        // Driven channels are refused, changing nothing.
+        let mut r = load(
+            &CHAIN
+                .replace(r#""ctrl":"#, r#""drv": transform(), "ctrl":"#)
+                .replace("})", "}, connections: [\"drv.rotate -> b.rotate\"])"),
+        );
+        let before = worlds(&mut r.graph);
+        let e = orient_joints(
+            &mut r.graph,
+            &OrientJoints {
+                aim: 0,
+                up: 1,
+                world_up: DVec3::Y,
+                joints: None,
+                children: false,
+            },
+        );
+        assert!(e.unwrap_err().to_string().contains("b.rotate is driven by drv.rotate"));
+        assert_eq!(before.len(), worlds(&mut r.graph).len());
+    }
+}
