@@ -13,11 +13,11 @@ use crate::value::{AttrType, AttrValue, Value};
 
 /// One evaluation state of a program: its own slot values.
 pub struct Instance {
-    program: Arc<Program>,
-    slots: Slots,
-    needs_full: bool,
+    pub(crate) program: Arc<Program>,
+    pub(crate) slots: Slots,
+    pub(crate) needs_full: bool,
     /// The last full evaluation found every guard of the guarded schedule holding.
-    guarded: bool,
+    pub(crate) guarded: bool,
 }
 
 impl std::fmt::Debug for Instance {
@@ -249,7 +249,7 @@ pub(crate) fn run_step(
 /// The error of a failed step, naming its node (out of line: the loop stays small).
 #[cold]
 #[inline(never)]
-fn step_error(program: &Program, step: &Step, e: ComputeError) -> Error {
+pub(crate) fn step_error(program: &Program, step: &Step, e: ComputeError) -> Error {
     Error::Compute {
         node: program.step_node_name(step).to_string(),
         node_type: step.kind.spec().name.clone(),

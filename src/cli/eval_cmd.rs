@@ -2,12 +2,11 @@
 //! lines, or writes mesh plugs as one OBJ file per frame. Output streams: each frame is
 //! written as soon as it is evaluated, so memory stays constant over any frame count.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::Arc;
 
-use sinew_core::rig::parse::parse;
-use sinew_core::rig::typed::read_value;
-use sinew_core::{CompileOptions, Graph, Instance, Plug, Program, Registry, Time, Value};
+pub use sinew_core::rig::typed::parse_plug_value;
+use sinew_core::{CompileOptions, Graph, Instance, Plug, Program, Registry, Time};
 
 use super::eval_format::Printer;
 use super::frames::resolve_timing;
@@ -65,19 +64,6 @@ impl EvalRequest {
             lazy: false,
         }
     }
-}
-
-/// Parses `text` as a value for `plug` (RON syntax, as in rig files).
-pub fn parse_plug_value(graph: &Graph, plug: Plug, text: &str) -> Result<Value, String> {
-    let ty = graph.plug_type(plug).map_err(|e| e.to_string())?;
-    let spec = graph.node_spec(plug.node).ok_or("stale node")?;
-    let attr = (plug.component.is_none()).then(|| spec.attr(plug.attr));
-    let file: Arc<Path> = Arc::from(Path::new("<--set>"));
-    let node = parse(text, &file).map_err(|d| format!("cannot parse {text:?}: {}", d.message))?;
-    read_value(&node, ty, attr, &graph.plug_name(plug)).map_err(|d| match d.hint {
-        Some(h) => format!("{} ({h})", d.message),
-        None => d.message,
-    })
 }
 
 /// `plug` without its component.

@@ -16,9 +16,13 @@ mod import_cmd;
 mod nodes_cmd;
 pub mod output;
 pub mod paths;
+mod profile_cmd;
 mod retarget_cmd;
 mod rig_cmds;
 mod skeletonize_cmd;
+#[cfg(feature = "view")]
+mod view_cmd;
+mod watch;
 
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
@@ -96,16 +100,53 @@ enum Command {
         #[arg(short, long)]
         output: Option<PathBuf>,
     },
-    /// Print a rig's node graph as Graphviz DOT (default) or JSON.
+    /// Print a rig's node graph as Graphviz DOT (default), JSON, an SVG picture or an HTML page.
     Graph {
         /// The rig file.
         rig: PathBuf,
         /// Graphviz DOT output.
-        #[arg(long, conflicts_with = "json")]
+        #[arg(long, conflicts_with_all = ["json", "svg", "html"])]
         dot: bool,
         /// JSON output.
-        #[arg(long)]
+        #[arg(long, conflicts_with_all = ["svg", "html"])]
         json: bool,
+        /// An SVG picture laid out by sinew (no Graphviz needed).
+        #[arg(long, conflicts_with = "html")]
+        svg: bool,
+        /// A standalone HTML page with the picture, pan, zoom and node search.
+        #[arg(long)]
+        html: bool,
+    },
+    /// Serve a live viewer of the rig in the browser (reloads when the rig's files change).
+    View {
+        /// The rig file.
+        rig: PathBuf,
+        /// Port to listen on (0: any free port; the address is printed).
+        #[arg(long, default_value_t = 8484)]
+        port: u16,
+        /// Address to listen on.
+        #[arg(long, default_value = "127.0.0.1")]
+        host: String,
+        /// Open the page in the default browser.
+        #[arg(long)]
+        open: bool,
+    },
+    /// Time the compiled evaluation per node and node type; optionally write a Chrome trace.
+    Profile {
+        /// The rig file.
+        rig: PathBuf,
+        /// Frames: START..=END, START..END or one frame (default: the rig's frame range).
+        #[arg(long)]
+        frames: Option<String>,
+        /// Frames per second (default: the rig's fps, else 24).
+        #[arg(long)]
+        fps: Option<f64>,
+        /// Write a Chrome trace-event JSON of the first frames (Perfetto, chrome://tracing).
+        #[arg(long)]
+        trace: Option<PathBuf>,
+        /// Node rows to print.
+        #[arg(long, default_value_t = 30)]
+        top: usize,
     },
     /// Evaluate a rig frame by frame and print plugs.
     Eval {
@@ -258,6 +299,21 @@ pub fn run(args: impl IntoIterator<Item = std::ffi::OsString>) -> ExitCode {
     }
 }
 
+#[cfg(feature = "view")]
+fn view(
+    rig: &std::path::Path,
+    addr: &str,
+    open: bool,
+    registry: &std::sync::Arc<sinew_core::Registry>,
+) -> Result<(), String> {
+    view_cmd::view(rig, addr, open, registry)
+}
+
+#[cfg(not(feature = "view"))]
+fn view(_: &std::path::Path, _: &str, _: bool, _: &std::sync::Arc<sinew_core::Registry>) -> Result<(), String> {
+    Err("this sinew was built without the `view` feature; rebuild with default features".into())
+}
+
 fn execute(cli: Cli, out: &mut Output<'_>) -> Result<(), CliError> {
     let registry = crate::default_registry().map_err(|e| format!("internal error in a node plugin: {e}"))?;
     match cli.command {
@@ -300,7 +356,38 @@ fn execute(cli: Cli, out: &mut Output<'_>) -> Result<(), CliError> {
             )?;
             out.text(&report)?
         }
-        Command::Graph { rig, dot: _, json } => out.text(&rig_cmds::graph(&rig, json, &registry)?)?,
+        Command::Graph {
+            rig,
+            dot: _,
+            json,
+            svg,
+            html,
+        } => {
+            let format = match (json, svg, html) {
+                (true, _, _) => rig_cmds::GraphFormat::Json,
+                (_, true, _) => rig_cmds::GraphFormat::Svg,
+                (_, _, true) => rig_cmds::GraphFormat::Html,
+                _ => rig_cmds::GraphFormat::Dot,
+            };
+            out.text(&rig_cmds::graph(&rig, format, &registry)?)?
+        }
+        Command::View { rig, port, host, open } => view(&rig, &format!("{host}:{port}"), open, &registry)?,
+        Command::Profile {
+            rig,
+            frames,
+            fps,
+            trace,
+            top,
+        } => out.text(&profile_cmd::profile(
+            &profile_cmd::ProfileRequest {
+                rig,
+                frames,
+                fps,
+                trace,
+                top,
+            },
+            &registry,
+        )?)?,
         Command::Eval {
             rig,
             frames,

@@ -4,7 +4,6 @@
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use std::time::{Duration, SystemTime};
 
 use sinew_core::rig::{rig_dependencies, to_dot, to_json, LoadedRig};
 use sinew_core::Registry;
@@ -36,41 +35,35 @@ pub fn check(path: &Path, registry: &Arc<Registry>) -> Result<String, String> {
     load(path, registry).map(|rig| summary(path, &rig))
 }
 
-fn stamps(files: &[PathBuf]) -> Vec<Option<SystemTime>> {
-    files
-        .iter()
-        .map(|f| std::fs::metadata(f).and_then(|m| m.modified()).ok())
-        .collect()
-}
-
-/// `sinew check --watch RIG`: re-validates whenever the rig or any component
-/// file it includes changes (polling modification times every 100 ms).
-/// Runs until interrupted, or for `max_runs` validations when given.
+/// `sinew check --watch RIG`: re-validates whenever the rig or any component or data
+/// file it uses changes (file events through [`super::watch::FileWatcher`]). Runs until
+/// interrupted, or for `max_runs` validations when given.
 pub fn watch(
     path: &Path,
     registry: &Arc<Registry>,
     max_runs: Option<usize>,
     out: &mut Output<'_>,
 ) -> Result<(), CliError> {
+    let mut watcher = super::watch::FileWatcher::new()?;
     let mut runs = 0;
     loop {
-        let files = rig_dependencies(path);
-        let before = stamps(&files);
         let started = std::time::Instant::now();
-        match check(path, registry) {
-            Ok(s) => out.text(&format!("{s} ({:.1} ms)", started.elapsed().as_secs_f64() * 1000.0))?,
+        let mut files = rig_dependencies(path);
+        match load(path, registry) {
+            Ok(rig) => {
+                files.extend(rig.document.referenced_files());
+                let ms = started.elapsed().as_secs_f64() * 1000.0;
+                out.text(&format!("{} ({ms:.1} ms)", summary(path, &rig)))?
+            }
             Err(e) => out.text(&e)?,
         }
         runs += 1;
         if max_runs.is_some_and(|m| runs >= m) {
             return Ok(());
         }
-        loop {
-            std::thread::sleep(Duration::from_millis(100));
-            let files_now = rig_dependencies(path);
-            if files_now != files || stamps(&files_now) != before {
-                break;
-            }
+        watcher.set_files(&files);
+        if !watcher.wait() {
+            return Err(CliError::from("the file watcher stopped".to_string()));
         }
     }
 }
@@ -147,8 +140,40 @@ pub fn orient_joints(path: &Path, a: OrientArgs<'_>, registry: &Arc<Registry>) -
     Ok(format!("{}: oriented {} joints", out.display(), done.len()))
 }
 
-/// `sinew graph RIG --dot|--json`.
-pub fn graph(path: &Path, json: bool, registry: &Arc<Registry>) -> Result<String, String> {
+/// What `sinew graph` prints.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GraphFormat {
+    /// Graphviz DOT.
+    Dot,
+    /// JSON.
+    Json,
+    /// An SVG picture, laid out by sinew (no Graphviz needed).
+    Svg,
+    /// An HTML page with the SVG, pan, zoom and a node search.
+    Html,
+}
+
+/// `sinew graph RIG --dot|--json|--svg|--html`.
+pub fn graph(path: &Path, format: GraphFormat, registry: &Arc<Registry>) -> Result<String, String> {
     let rig = load(path, registry)?;
-    Ok(if json { to_json(&rig.graph) } else { to_dot(&rig.graph) })
+    match format {
+        GraphFormat::Dot => Ok(to_dot(&rig.graph)),
+        GraphFormat::Json => Ok(to_json(&rig.graph)),
+        GraphFormat::Svg | GraphFormat::Html => picture(path, &rig, format == GraphFormat::Html),
+    }
+}
+
+#[cfg(feature = "view")]
+fn picture(path: &Path, rig: &LoadedRig, html: bool) -> Result<String, String> {
+    let svg = sinew_view::graph_svg::render(&rig.graph, &Default::default())?;
+    Ok(if html {
+        sinew_view::graph_svg::html_page(&path.display().to_string(), &svg)
+    } else {
+        svg
+    })
+}
+
+#[cfg(not(feature = "view"))]
+fn picture(_: &Path, _: &LoadedRig, _: bool) -> Result<String, String> {
+    Err("this sinew was built without the `view` feature; use --dot and Graphviz, or rebuild with it".into())
 }

@@ -14,7 +14,15 @@ use crate::registry::Registry;
 use crate::spec::AttrId;
 use crate::value::AttrType;
 
-fn resolve(graph: &Graph, path: &str, span: &Span, broken: &HashSet<&str>, diags: &mut Diagnostics) -> Option<Plug> {
+/// Names a reference may miss without an error of its own: nodes of `Use`s in error,
+/// and (with `opaque`) any unknown node, counted in `hidden`.
+struct Quiet<'a> {
+    broken: HashSet<&'a str>,
+    opaque: bool,
+    hidden: &'a mut usize,
+}
+
+fn resolve(graph: &Graph, path: &str, span: &Span, quiet: &mut Quiet<'_>, diags: &mut Diagnostics) -> Option<Plug> {
     let parts = match parse_plug_path(path) {
         Ok(p) => p,
         Err(e) => {
@@ -25,11 +33,15 @@ fn resolve(graph: &Graph, path: &str, span: &Span, broken: &HashSet<&str>, diags
             return None;
         }
     };
-    if broken.contains(parts.node) {
+    if quiet.broken.contains(parts.node) {
         return None;
     }
     match graph.plug(path) {
         Ok(p) => Some(p),
+        Err(Error::UnknownNode { .. }) if quiet.opaque => {
+            *quiet.hidden += 1;
+            None
+        }
         Err(Error::UnknownNode { name, suggestion }) => {
             let hint = match suggestion {
                 Some(s) => format!("did you mean `{s}`?"),
@@ -73,10 +85,15 @@ pub(super) fn build_graph(
     flat: &Flat,
     registry: &Arc<Registry>,
     diags: &mut Diagnostics,
+    hidden: &mut usize,
 ) -> (Graph, Vec<Option<NodeId>>) {
     let mut g = Graph::new(registry.clone());
     let mut first: HashMap<&str, &FlatNode> = HashMap::new();
-    let mut broken: HashSet<&str> = HashSet::new();
+    let mut quiet = Quiet {
+        broken: flat.suppressed.iter().map(String::as_str).collect(),
+        opaque: flat.opaque.is_some(),
+        hidden,
+    };
     let mut ids: Vec<Option<NodeId>> = Vec::with_capacity(flat.nodes.len());
     for n in &flat.nodes {
         let at = n.via.clone().unwrap_or_else(|| n.span.clone());
@@ -90,7 +107,7 @@ pub(super) fn build_graph(
         }
         first.insert(&n.name, n);
         if n.kind.is_none() {
-            broken.insert(&n.name);
+            quiet.broken.insert(&n.name);
             ids.push(None);
             continue;
         }
@@ -110,7 +127,7 @@ pub(super) fn build_graph(
                     d = d.note(v.clone(), "created by this Use");
                 }
                 diags.push(d);
-                broken.insert(&n.name);
+                quiet.broken.insert(&n.name);
                 ids.push(None);
             }
         }
@@ -134,10 +151,14 @@ pub(super) fn build_graph(
         let (Some(id), Some((p, pspan))) = (*id, &n.parent) else {
             continue;
         };
-        if broken.contains(p.as_str()) {
+        if quiet.broken.contains(p.as_str()) {
             continue;
         }
         let Some(pid) = g.find_node(p) else {
+            if quiet.opaque {
+                *quiet.hidden += 1;
+                continue;
+            }
             let hint = match nearest(p, first.keys().copied()) {
                 Some(s) => format!("did you mean `{s}`?"),
                 None => "parent names a node of this rig".into(),
@@ -165,8 +186,8 @@ pub(super) fn build_graph(
         }
     }
     for c in &flat.conns {
-        let s = resolve(&g, &c.src, &c.src_span, &broken, diags);
-        let d = resolve(&g, &c.dst, &c.dst_span, &broken, diags);
+        let s = resolve(&g, &c.src, &c.src_span, &mut quiet, diags);
+        let d = resolve(&g, &c.dst, &c.dst_span, &mut quiet, diags);
         let (Some(s), Some(d)) = (s, d) else { continue };
         let text = format!("{} -> {}", g.plug_name(s), g.plug_name(d));
         match g.connect(s, d) {

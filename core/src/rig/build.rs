@@ -97,6 +97,19 @@ pub(super) struct FlatConn {
 pub(super) struct Flat {
     pub(super) nodes: Vec<FlatNode>,
     pub(super) conns: Vec<FlatConn>,
+    /// Names a `Use` in error would have created: references to them report nothing
+    /// more (the `Use`'s own error is the cause).
+    pub(super) suppressed: HashSet<String>,
+    /// A `Use` whose file or component is missing (the index of that error): it defines
+    /// names nobody knows, so references to unknown nodes are counted, not reported.
+    pub(super) opaque: Option<usize>,
+}
+
+impl Flat {
+    fn absorb(&mut self, other: &Flat) {
+        self.suppressed.extend(other.suppressed.iter().cloned());
+        self.opaque = self.opaque.or(other.opaque);
+    }
 }
 
 struct FileDoc {
@@ -108,7 +121,10 @@ struct Expander<'a> {
     registry: &'a Registry,
     source: &'a dyn RigSource,
     diags: Diagnostics,
-    files: HashMap<PathBuf, Option<Rc<FileDoc>>>,
+    /// Files read: the document, or the index of the error that reading it gave.
+    files: HashMap<PathBuf, Result<Rc<FileDoc>, usize>>,
+    /// References to unknown nodes not reported because of an opaque `Use`.
+    hidden: usize,
     deps: Vec<PathBuf>,
     /// Values read from `File("...")` references, with the file (see `RigDocument`).
     file_values: std::cell::RefCell<Vec<(Value, PathBuf)>>,
@@ -159,7 +175,7 @@ impl<'a> Expander<'a> {
         }
     }
 
-    fn load_file(&mut self, path: &Path, at: &Span) -> Option<Rc<FileDoc>> {
+    fn load_file(&mut self, path: &Path, at: &Span) -> Result<Rc<FileDoc>, usize> {
         let key = normalize(path);
         if let Some(c) = self.files.get(&key) {
             return c.clone();
@@ -168,26 +184,34 @@ impl<'a> Expander<'a> {
         let text = match self.source.read(&key) {
             Ok(t) => t,
             Err(e) => {
+                let dir = key.parent().unwrap_or(Path::new(""));
+                let wanted = key.file_name().and_then(|f| f.to_str()).unwrap_or("");
+                let names = self.source.file_names(dir);
+                let hint = match nearest(wanted, names.iter().map(String::as_str).filter(|n| *n != wanted)) {
+                    Some(s) => format!("did you mean `{s}`? file paths are relative to the file that uses them"),
+                    None => "file paths are relative to the file that uses them".to_string(),
+                };
                 self.diags.push(
                     Diagnostic::new(
                         at.clone(),
                         format!("cannot read component file `{}`: {e}", key.display()),
                     )
-                    .hint("file paths are relative to the file that uses them"),
+                    .hint(hint),
                 );
-                self.files.insert(key, None);
-                return None;
+                let r = Err(self.diags.len() - 1);
+                self.files.insert(key, r.clone());
+                return r;
             }
         };
         let fpath: Arc<Path> = Arc::from(key.as_path());
         let fd = match parse(&text, &fpath) {
             Ok(root) => {
                 let doc = read_document(&root, &fpath, &mut self.diags);
-                Some(Rc::new(FileDoc { path: fpath, doc }))
+                Ok(Rc::new(FileDoc { path: fpath, doc }))
             }
             Err(d) => {
                 self.diags.push(d);
-                None
+                Err(self.diags.len() - 1)
             }
         };
         self.files.insert(key, fd.clone());
@@ -401,6 +425,13 @@ impl<'a> Expander<'a> {
                 }
             };
             let Some(k) = flat.nodes.iter().position(|n| n.name == parts.node) else {
+                if flat.suppressed.contains(parts.node) {
+                    continue;
+                }
+                if flat.opaque.is_some() {
+                    self.hidden += 1;
+                    continue;
+                }
                 let hint = nearest(parts.node, flat.nodes.iter().map(|n| n.name.as_str()))
                     .map(|s| format!("did you mean `{s}`?"))
                     .unwrap_or_else(|| "overrides refer to nodes by name".into());
@@ -469,6 +500,11 @@ impl<'a> Expander<'a> {
         let mut flat = Flat::default();
         for u in &body.uses {
             let mut sub = self.expand_use(u, scope, stack);
+            flat.absorb(&sub);
+            if u.broken {
+                flat.suppressed.extend(sub.nodes.into_iter().map(|n| n.name));
+                continue;
+            }
             if let Some(r) = records.as_deref_mut() {
                 for n in &mut sub.nodes {
                     n.use_index = Some(r.len());
@@ -510,8 +546,13 @@ impl<'a> Expander<'a> {
             Some((f, fspan)) => {
                 let dir = scope.path.parent().unwrap_or(Path::new(""));
                 match self.load_file(&dir.join(f), fspan) {
-                    Some(fd) => fd,
-                    None => return Flat::default(),
+                    Ok(fd) => fd,
+                    Err(cause) => {
+                        return Flat {
+                            opaque: Some(cause),
+                            ..Flat::default()
+                        }
+                    }
                 }
             }
             None => scope.clone(),
@@ -531,7 +572,10 @@ impl<'a> Expander<'a> {
                         )
                         .hint(hint),
                     );
-                    return Flat::default();
+                    return Flat {
+                        opaque: Some(self.diags.len() - 1),
+                        ..Flat::default()
+                    };
                 }
             },
             None => (target_scope.path.display().to_string(), target_scope.doc.body.clone()),
@@ -666,6 +710,7 @@ impl<'a> Expander<'a> {
                 }
             }
         }
+        flat.suppressed = flat.suppressed.iter().map(|n| map(n)).collect();
         flat
     }
 }
@@ -744,6 +789,7 @@ pub fn load_rig_with(
         source,
         diags: Diagnostics::default(),
         files: HashMap::new(),
+        hidden: 0,
         deps: vec![key.clone()],
         file_values: Default::default(),
     };
@@ -753,13 +799,27 @@ pub fn load_rig_with(
         path: fpath.clone(),
         doc,
     });
-    exp.files.insert(key.clone(), Some(scope.clone()));
+    exp.files.insert(key.clone(), Ok(scope.clone()));
     let mut records = Vec::new();
     let mut stack = vec![(fpath.display().to_string(), Span::new(&fpath, 1, 1))];
     let body = scope.doc.body.clone();
     let flat = exp.expand_body(&body, &scope, &mut stack, Some(&mut records));
     let mut diags = std::mem::take(&mut exp.diags);
-    let (mut graph, ids) = super::assemble::build_graph(&flat, registry, &mut diags);
+    let mut hidden = exp.hidden;
+    let (mut graph, ids) = super::assemble::build_graph(&flat, registry, &mut diags, &mut hidden);
+    if let Some(cause) = flat.opaque.filter(|_| hidden > 0) {
+        if let Some(d) = diags.errors.get_mut(cause) {
+            let note = d.span.clone();
+            *d = d.clone().note(
+                note,
+                format!(
+                    "{hidden} reference{} to nodes not found {} not reported: the nodes this Use would create may include them",
+                    if hidden == 1 { "" } else { "s" },
+                    if hidden == 1 { "is" } else { "are" }
+                ),
+            );
+        }
+    }
     if doc_frames_start(&scope.doc).is_some() || scope.doc.fps.is_some() {
         graph.set_time(Time::new(
             doc_frames_start(&scope.doc).unwrap_or(0.0),
@@ -794,6 +854,7 @@ pub fn load_rig_with(
     }
     super::expand_run::file_expansions(&graph, expansions, &mut records, &mut doc.expansions);
     doc.records = records;
+    doc.syntax = Some(root);
     doc.file_values = file_values;
     super::canon::long_names(&mut doc, &graph, registry);
     Ok(LoadedRig {

@@ -14,7 +14,8 @@ use std::path::Path;
 
 use super::custom_decl::write_attrs;
 use super::doc::{print_document, PrintBody, PrintNode, RigDocument};
-use super::parse::Ast;
+use super::fmt_comments::Ids;
+use super::parse::{Ast, Node};
 use super::typed::{synth, write_value};
 use crate::graph::{Graph, NodeId, Plug};
 use crate::spec::{AttrId, AttrSpec};
@@ -314,13 +315,27 @@ pub fn save_rig(graph: &Graph, doc: &RigDocument) -> String {
     }
     set.sort_by(|a, b| (a.0, &a.1).cmp(&(b.0, &b.1)));
 
-    let mut connections: Vec<(usize, String, String)> = conns
+    // Connections the file wrote keep its order (and so its grouping and comments);
+    // new ones follow, by destination node order.
+    let ids = GraphIds(graph);
+    let written: HashMap<String, usize> = doc
+        .body
+        .connections
+        .iter()
+        .enumerate()
+        .map(|(i, c)| (ids.conn(&c.src, &c.dst), i))
+        .collect();
+    let mut connections: Vec<((usize, usize), String, String)> = conns
         .iter()
         .filter(|c| !rec_conns.contains(&(c.2.as_str(), c.3.as_str())))
         .filter(|c| !compact.conns.contains(&(c.2.clone(), c.3.clone())))
         .map(|c| {
+            let at = written
+                .get(&format!("{} -> {}", c.2, c.3))
+                .copied()
+                .unwrap_or(usize::MAX);
             (
-                rank.get(&c.1.node).copied().unwrap_or(usize::MAX),
+                (at, rank.get(&c.1.node).copied().unwrap_or(usize::MAX)),
                 c.2.clone(),
                 c.3.clone(),
             )
@@ -334,7 +349,61 @@ pub fn save_rig(graph: &Graph, doc: &RigDocument) -> String {
         connections: connections.into_iter().map(|(_, s, d)| (s, d)).collect(),
         set: set.into_iter().map(|(_, p, v)| (p, v)).collect(),
     };
-    print_document(doc, &body)
+    let text = print_document(doc, &body);
+    match &doc.syntax {
+        Some(orig) => with_comments(&text, orig, graph),
+        None => text,
+    }
+}
+
+/// Names entries of the file as written the way the canonical text names them,
+/// through the loaded graph.
+struct GraphIds<'g>(&'g Graph);
+
+impl GraphIds<'_> {
+    fn canonical(&self, path: &str) -> String {
+        self.0
+            .plug(path)
+            .map(|p| self.0.plug_name(p))
+            .unwrap_or_else(|_| path.to_string())
+    }
+}
+
+impl Ids for GraphIds<'_> {
+    fn field(&self, node_type: &str, field: &str) -> (String, Option<String>) {
+        let spec = self.0.registry().get(node_type).map(|t| t.spec());
+        match spec.and_then(|s| Some((s, s.find(field)?))) {
+            Some((s, (attr, comp))) => {
+                let a = s.attr(attr);
+                let long = match (comp, &a.children) {
+                    (Some(k), Some(ch)) => ch[k as usize].clone(),
+                    _ => a.name.clone(),
+                };
+                (long, Some(a.name.clone()))
+            }
+            None => (field.to_string(), None),
+        }
+    }
+
+    fn conn(&self, src: &str, dst: &str) -> String {
+        format!("{} -> {}", self.canonical(src), self.canonical(dst))
+    }
+
+    fn set_path(&self, path: &str) -> String {
+        self.canonical(path)
+    }
+}
+
+/// The canonical `text` with the comments of the file as written (`orig`) carried
+/// over ([`fmt_comments`](super::fmt_comments)); `text` itself if it does not parse
+/// (it always does: it is what the printer wrote).
+fn with_comments(text: &str, orig: &Node, graph: &Graph) -> String {
+    let file: std::sync::Arc<Path> = std::sync::Arc::from(Path::new("canonical.ron"));
+    let Ok(mut tree) = super::parse::parse(text, &file) else {
+        return text.to_string();
+    };
+    super::fmt_comments::transfer(orig, &mut tree, &GraphIds(graph));
+    super::fmt_print::print_file(&tree)
 }
 
 /// What the expansions of the rig's own nodes made that saving leaves to the compact
