@@ -190,6 +190,49 @@ fn maintain_offset_keeps_the_node_where_it_was() {
 }
 
 #[test]
+fn an_explicit_connection_wins_over_the_expansion_and_aim_takes_a_world_up_object() {
+    let nodes = r#"
+        "head": joint(translate: (0, 1.6, 0), rotate: (0, 30, 0)),
+        "eye": joint(parent: "head", translate: (0.03, 0.07, 0.09)),
+        "eye_target": transform(translate: (0.5, 1.5, 1)),
+        "space": transform(translate: (0, 1.6, 0)),
+    "#;
+    // The eye's parent space comes from `space` (written by hand) instead of the eye's own
+    // parentInverseMatrix (what the expansion would connect).
+    let compact = format!(
+        r#"Rig(nodes: {{ {nodes}
+        "aim": aimConstraint(targets: ["eye_target"], constrained: "eye", worldUpObject: "head",
+                             aimVector: (0, 0, 1), worldUpType: objectRotation),
+    }}, connections: ["space.worldInverseMatrix -> aim.constraintParentInverseMatrix"])"#
+    );
+    let hand = format!(
+        r#"Rig(nodes: {{ {nodes}
+        "aim": aimConstraint(aimVector: (0, 0, 1), worldUpType: objectRotation),
+    }}, connections: [
+        "space.worldInverseMatrix -> aim.constraintParentInverseMatrix",
+        "eye_target.worldMatrix -> aim.targetWorldMatrix[0]",
+        "eye.rotateOrder -> aim.constraintRotateOrder",
+        "eye.jointOrient -> aim.constraintJointOrient",
+        "eye.rotateAxis -> aim.constraintRotateAxis",
+        "eye.translate -> aim.constraintTranslate",
+        "head.worldMatrix -> aim.worldUpMatrix",
+        "aim.constraintRotate -> eye.rotate",
+    ])"#
+    );
+    let a = load(&compact);
+    graph_eq(&a.graph, &load(&hand).graph).unwrap();
+    // fmt keeps the compact form beside the explicit connection, and reloads to the same graph.
+    let text = save_rig(&a.graph, &a.document);
+    assert!(
+        text.contains("worldUpObject: \"head\"")
+            && text.contains("space.worldInverseMatrix -> aim.constraintParentInverseMatrix")
+            && !text.contains("targetWorldMatrix"),
+        "{text}"
+    );
+    graph_eq(&a.graph, &load(&text).graph).unwrap();
+}
+
+#[test]
 fn skin_bind_pre_matrices_are_the_inverse_world_matrices() {
     let rig = r#"Rig(nodes: {
         "root": joint(translate: (0, 1, 0), rotate: (0, 0, 30)),

@@ -91,6 +91,8 @@ pub struct ExpandContext<'a> {
     pub(crate) phase: ExpandPhase,
     pub(crate) source: &'a dyn RigSource,
     pub(crate) authored: &'a HashSet<(AttrId, Option<u32>)>,
+    /// Destinations the rig file connects explicitly (they win over an expansion's).
+    pub(crate) explicit: &'a HashSet<Plug>,
     pub(crate) made: &'a mut Expansion,
     pub(crate) diags: &'a mut Diagnostics,
 }
@@ -264,8 +266,13 @@ impl<'a> ExpandContext<'a> {
         (comp.is_none() && multi).then(|| Plug::new(node, a).at(index))
     }
 
-    /// Connects `src` to `dst` (recorded); an error is reported at `at`.
+    /// Connects `src` to `dst` (recorded), unless the rig file connects `dst` explicitly
+    /// (an explicit connection wins over an expansion's, as an explicit value does); an
+    /// error is reported at `at`.
     pub fn connect(&mut self, src: Plug, dst: Plug, at: &Span) -> bool {
+        if self.explicit.contains(&dst) {
+            return false;
+        }
         match self.graph.connect(src, dst) {
             Ok(()) => {
                 let names = (self.graph.plug_name(src), self.graph.plug_name(dst));

@@ -8,7 +8,7 @@ use super::build::{Flat, RecNode, UseRecord};
 use super::diag::Diagnostics;
 use super::expand::{ExpandContext, ExpandPhase, Expansion};
 use super::source::RigSource;
-use crate::graph::{Graph, NodeId};
+use crate::graph::{Graph, NodeId, Plug};
 
 /// Runs every expansion; returns what each made, with the top-level `Use` that created the
 /// expanded node (if one did).
@@ -38,6 +38,7 @@ pub(super) fn run(
             ..Expansion::default()
         })
         .collect();
+    let explicit: HashSet<Plug> = graph.connections().into_iter().map(|(_, d)| d).collect();
     for phase in [ExpandPhase::Connect, ExpandPhase::Settle, ExpandPhase::Bind] {
         for (&(k, id), m) in todo.iter().zip(made.iter_mut()) {
             let n = &flat.nodes[k];
@@ -51,6 +52,7 @@ pub(super) fn run(
                 phase,
                 source,
                 authored: &authored,
+                explicit: &explicit,
                 made: m,
                 diags,
             };

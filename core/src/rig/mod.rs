@@ -20,9 +20,9 @@
 mod assemble;
 mod build;
 mod canon;
-mod custom_decl;
 #[doc(hidden)]
 pub mod comment_check;
+mod custom_decl;
 pub mod diag;
 pub mod doc;
 mod doc_print;
@@ -41,9 +41,9 @@ pub mod typed;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
-mod tests_custom;
-#[cfg(test)]
 mod tests_comments;
+#[cfg(test)]
+mod tests_custom;
 #[cfg(test)]
 mod tests_errors;
 #[cfg(test)]

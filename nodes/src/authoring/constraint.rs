@@ -11,7 +11,8 @@
 //! `rotatePivot`, `rotatePivotTranslate`, for the aim its `translate`, for the scale its
 //! `segmentScaleCompensate` and `inverseScale`: whichever both sides have) and, unless
 //! `drive: false`, the outputs into the node (`constraintTranslate → translate`,
-//! `constraintRotate → rotate`, `constraintScale → scale`).
+//! `constraintRotate → rotate`, `constraintScale → scale`). The aim constraint's
+//! `worldUpObject: "node"` connects that node's `worldMatrix → worldUpMatrix`.
 //!
 //! `maintainOffset: true` (Maya's `-mo`) measures the pose the rig is in at load, before
 //! the outputs are connected, and keeps the node there: `targetOffset[i] =
@@ -41,6 +42,19 @@ pub enum Kind {
     /// `scaleConstraint`.
     Scale,
 }
+
+/// The aim constraint's fields: the others' and `worldUpObject`.
+pub const AIM_FIELDS: [AuthoringField; 5] = [
+    FIELDS[0],
+    FIELDS[1],
+    FIELDS[2],
+    FIELDS[3],
+    AuthoringField {
+        name: "worldUpObject",
+        doc: "node whose worldMatrix is the world up object (worldUpType object or objectRotation)",
+        names: true,
+    },
+];
 
 /// The constraints' authoring fields.
 pub const FIELDS: [AuthoringField; 4] = [
@@ -141,6 +155,12 @@ pub fn expand(cx: &mut ExpandContext<'_>, kind: Kind) {
             for &(src, dst) in space(kind) {
                 let d = cx.attr(c, dst);
                 connect_attr(cx, node, src, d, &at);
+            }
+            if let Some(up) = cx.field("worldUpObject") {
+                if let Some(n) = cx.node_ref(up, "worldUpObject") {
+                    let d = cx.attr(c, "worldUpMatrix");
+                    connect_attr(cx, n, "worldMatrix", d, &up.span);
+                }
             }
             if keep && kind == Kind::Aim {
                 cx.error(

@@ -259,7 +259,7 @@ impl NodeType for AimConstraint {
     }
 
     fn authoring_fields(&self) -> &[sinew_core::AuthoringField] {
-        &crate::authoring::constraint::FIELDS
+        &crate::authoring::constraint::AIM_FIELDS
     }
 
     fn expand(&self, cx: &mut sinew_core::ExpandContext<'_>) {
