@@ -31,13 +31,14 @@ mod slots;
 pub mod spec;
 mod tape;
 pub mod testing;
+pub mod validate;
 pub mod value;
 pub mod value_file;
 
 pub use custom::{CustomAffects, CustomNode};
 pub use data::{Curve, CurveForm, Mesh, Weights};
-pub use error::{ComputeError, Error, Result, SpecError};
-pub use graph::{EvalStats, Graph, NodeId, Plug};
+pub use error::{ComputeError, Error, InputError, Result, SpecError};
+pub use graph::{EvalStats, Graph, NodeId, Plug, MAX_ELEMENT_INDEX};
 pub use kernel::{finite, KernelNode, ScalarKernel, ScalarOp, MAX_KERNEL_INPUTS};
 pub use mat_kernel::{MatrixFn, MatrixKernel};
 pub use node::{ComputeContext, KnownInputs, NodeType, Time};
@@ -53,4 +54,5 @@ pub use spec::{
     AttrId, AttrSpec, ComputeGroup, DagLink, DagSpec, Direction, Input, MirrorRole, MultiInput, MultiOutput, NodeSpec,
     Output, SpecBuilder, Unit,
 };
+pub use validate::{Problem, ValidateInputs};
 pub use value::{AttrType, AttrValue, ObjectRef, SharedData, Value};

@@ -33,12 +33,17 @@ use clap::{Parser, Subcommand};
 pub use eval_cmd::{apply_overrides, eval, eval_to, parse_plug_value, EvalRequest, Format};
 pub use eval_format::Json;
 pub use frames::{parse_frames, resolve_timing, FrameRange, MAX_FRAME, MAX_FRAMES};
+pub use nodes_cmd::{markdown as nodes_markdown, MARKDOWN_COMMAND};
 pub use output::{CliError, Output};
 
 /// sinew: a Maya-style rig evaluator — check, evaluate and bake rigs written as RON text.
 #[derive(Debug, Parser)]
 #[command(name = "sinew", version, about, long_about = None)]
 pub struct Cli {
+    /// The most nodes a rig may expand to, components included (default 250000): a guard
+    /// against components that multiply without end.
+    #[arg(long, global = true, value_name = "N")]
+    max_nodes: Option<usize>,
     #[command(subcommand)]
     command: Command,
 }
@@ -52,6 +57,9 @@ enum Command {
         /// Print JSON instead of text.
         #[arg(long)]
         json: bool,
+        /// Print every node type as Markdown (what `docs/nodes.md` holds).
+        #[arg(long, conflicts_with_all = ["json", "node_type", "rig"])]
+        markdown: bool,
         /// List the attributes of a node of this rig (NODE_TYPE names the node).
         #[arg(long, value_name = "RIG")]
         rig: Option<PathBuf>,
@@ -179,9 +187,9 @@ enum Command {
         #[arg(long)]
         lazy: bool,
     },
-    /// Import a glTF (.gltf/.glb) or BVH file as a rig (RIG.ron plus its data file RIG.data.ron).
+    /// Import a Maya ASCII (.ma), glTF (.gltf/.glb) or BVH file as a rig (RIG.ron plus its data file RIG.data.ron).
     Import {
-        /// The model or motion file.
+        /// The scene, model or motion file.
         model: PathBuf,
         /// The rig file to write.
         #[arg(short, long)]
@@ -192,6 +200,12 @@ enum Command {
         /// glTF: the rig's frame rate (default 30; playback is exact at any rate).
         #[arg(long)]
         fps: Option<f64>,
+        /// Maya: multiply every length by this factor (0.01: centimetres to metres).
+        #[arg(long)]
+        scale: Option<f64>,
+        /// Maya: fail when a node type or connection that changes the rig is skipped.
+        #[arg(long)]
+        strict: bool,
     },
     /// Evaluate a rig over frames and write a glTF (.glb or .gltf) with skeleton, skins, morphs and animation.
     Bake {
@@ -209,6 +223,10 @@ enum Command {
         /// The glTF file to write.
         #[arg(short, long)]
         output: PathBuf,
+        /// Bake meshes deformed by deformers glTF cannot express (cluster, nonLinear, ffd,
+        /// deltaMush, wire, wrap...) as one morph target per frame (else: a warning names what is lost).
+        #[arg(long)]
+        bake_deformers_as_morphs: bool,
     },
     /// Retarget a BVH take onto a rig's skeleton and bake the result to glTF.
     Retarget {
@@ -316,8 +334,14 @@ fn view(_: &std::path::Path, _: &str, _: bool, _: &std::sync::Arc<sinew_core::Re
 
 fn execute(cli: Cli, out: &mut Output<'_>) -> Result<(), CliError> {
     let registry = crate::default_registry().map_err(|e| format!("internal error in a node plugin: {e}"))?;
+    if let Some(max_nodes) = cli.max_nodes {
+        rig_cmds::set_load_limits(sinew_core::rig::LoadLimits { max_nodes });
+    }
     match cli.command {
-        Command::Nodes { node_type, json, rig } => match rig {
+        Command::Nodes { markdown: true, .. } => out.text(&nodes_cmd::markdown(&registry))?,
+        Command::Nodes {
+            node_type, json, rig, ..
+        } => match rig {
             Some(rig) => {
                 let node = node_type.ok_or("--rig needs a node name: sinew nodes NODE --rig RIG.ron")?;
                 let loaded = rig_cmds::load(&rig, &registry)?;
@@ -417,11 +441,17 @@ fn execute(cli: Cli, out: &mut Output<'_>) -> Result<(), CliError> {
             output,
             animation,
             fps,
+            scale,
+            strict,
         } => out.text(&import_cmd::import(
             &model,
             &output,
-            animation.as_deref(),
-            fps,
+            &import_cmd::ImportFlags {
+                animation: animation.as_deref(),
+                fps,
+                scale,
+                strict,
+            },
             &registry,
         )?)?,
         Command::Bake {
@@ -430,12 +460,14 @@ fn execute(cli: Cli, out: &mut Output<'_>) -> Result<(), CliError> {
             fps,
             tolerance,
             output,
+            bake_deformers_as_morphs,
         } => out.text(&bake_cmd::bake_cmd(
             &rig,
             frames.as_deref(),
             fps,
             tolerance,
             &output,
+            bake_deformers_as_morphs,
             &registry,
         )?)?,
         Command::Retarget {

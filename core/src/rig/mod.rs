@@ -20,6 +20,7 @@
 mod assemble;
 mod build;
 mod canon;
+mod checks;
 #[doc(hidden)]
 pub mod comment_check;
 mod custom_decl;
@@ -49,6 +50,8 @@ mod tests_errors;
 #[cfg(test)]
 mod tests_fuzz;
 #[cfg(test)]
+mod tests_limits;
+#[cfg(test)]
 mod tests_names;
 #[cfg(test)]
 mod tests_ron;
@@ -57,7 +60,9 @@ use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-pub use build::{load_rig, load_rig_str, load_rig_with, LoadedRig};
+pub use build::{
+    load_rig, load_rig_str, load_rig_with, load_rig_with_limits, LoadLimits, LoadedRig, DEFAULT_MAX_NODES,
+};
 pub use diag::{Diagnostic, Diagnostics, Span};
 pub use doc::RigDocument;
 pub use export::{to_dot, to_json};
