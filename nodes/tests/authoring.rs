@@ -100,6 +100,41 @@ fn ik_rp_expands_into_the_hand_written_connections() {
 }
 
 #[test]
+fn ik_sc_expands_into_the_hand_written_connections() {
+    let nodes = r#"
+        "ball": joint(translate: (0.1, 0.02, 0.12), jointOrient: (-90, 0, 0)),
+        "toe": joint(parent: "ball", translate: (0.08, 0, 0)),
+        "toe_ctrl": transform(translate: (0.1, 0.1, 0.18)),
+    "#;
+    let compact = format!(r#"Rig(nodes: {{ {nodes} "toe_ik": ikSC(chain: ("ball", "toe"), goal: "toe_ctrl") }})"#);
+    let hand = format!(
+        r#"Rig(nodes: {{ {nodes} "toe_ik": ikSC() }}, connections: [
+            "ball.parentMatrix -> toe_ik.startParentMatrix",
+            "ball.translate -> toe_ik.jointTranslate[0]", "toe.translate -> toe_ik.jointTranslate[1]",
+            "ball.jointOrient -> toe_ik.jointOrient[0]", "toe.jointOrient -> toe_ik.jointOrient[1]",
+            "ball.rotateAxis -> toe_ik.jointRotateAxis[0]", "toe.rotateAxis -> toe_ik.jointRotateAxis[1]",
+            "ball.rotateOrder -> toe_ik.jointRotateOrder[0]", "toe.rotateOrder -> toe_ik.jointRotateOrder[1]",
+            "ball.preferredAngle -> toe_ik.preferredAngle[0]", "toe.preferredAngle -> toe_ik.preferredAngle[1]",
+            "toe_ctrl.worldMatrix -> toe_ik.goalMatrix",
+            "toe_ik.outRotate[0] -> ball.rotate",
+        ])"#
+    );
+    let (mut a, b) = (load(&compact), load(&hand));
+    graph_eq(&a.graph, &b.graph).unwrap();
+    // One bone aims at the goal: the toe lies on the line from the ball to the control.
+    let ball = DVec3::new(0.1, 0.02, 0.12);
+    let toe = matrix(&mut a.graph, "toe.worldMatrix").w_axis.truncate();
+    let dir = (DVec3::new(0.1, 0.1, 0.18) - ball).normalize();
+    assert!(((toe - ball).length() - 0.08).abs() < 1e-12, "{toe}");
+    assert!(((toe - ball).normalize() - dir).length() < 1e-9, "{toe}");
+    let text = save_rig(&a.graph, &a.document);
+    assert!(
+        text.contains("ikSC(chain: (\"ball\", \"toe\"), goal: \"toe_ctrl\")"),
+        "{text}"
+    );
+}
+
+#[test]
 fn ik_spline_with_a_curve_helper_expands_like_the_hand_written_one() {
     let nodes = r#"
         "s1": joint(translate: (0, 1, 0)),
