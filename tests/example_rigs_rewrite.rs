@@ -255,3 +255,49 @@ fn rewritten_biped_compiles_to_fewer_steps() {
     println!("arms in IK: {o:?} -> {n:?}");
     assert_eq!((n.1 + 2, n.2.map(|s| s + 2)), (o.1, o.2), "{o:?} -> {n:?}");
 }
+
+/// What the compact fields made is visible in `sinew graph` (the helper nodes and every
+/// connection), while the saved rig (`sinew fmt`) stays compact.
+#[test]
+fn expansions_show_in_sinew_graph_and_stay_compact_in_fmt() {
+    let rig = root().join("examples/biped/biped.ron");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_sinew"))
+        .args(["graph", rig.to_str().unwrap(), "--json"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let has_node = |n: &str| json["nodes"].as_array().unwrap().iter().any(|x| x["name"] == n);
+    let has_conn = |s: &str, d: &str| {
+        json["connections"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|c| c["src"] == s && c["dst"] == d)
+    };
+    for helper in ["leg_ik_L_pole", "leg_ik_R_pole", "arm_ik_L_pole", "spine_ik_curve"] {
+        assert!(has_node(helper), "{helper} missing from sinew graph");
+    }
+    for (s, d) in [
+        ("knee_R.translate", "leg_ik_R.jointTranslate[1]"),
+        ("leg_goal_R.worldMatrix", "leg_ik_R.goalMatrix"),
+        ("leg_ik_R_pole.constraintTranslate", "leg_ik_R.poleVector"),
+        ("eye_target_R.worldMatrix", "eye_aim_R.targetWorldMatrix[0]"),
+        ("head.worldMatrix", "eye_aim_R.worldUpMatrix"),
+        ("chest_ctrl.worldMatrix", "spine_ik_curve.pointMatrix[3]"),
+    ] {
+        assert!(has_conn(s, d), "{s} -> {d} missing from sinew graph");
+    }
+    // Saved (sinew fmt), the stand-alone arm keeps its one-line forms and none of what
+    // they made (the biped's parts are components: its file keeps its uses).
+    let registry = default_registry().unwrap();
+    let path = root().join("examples/arm.ron");
+    let text = sinew_core::rig::format_rig_file(&path, &registry).unwrap_or_else(|d| panic!("{}", d.render()));
+    assert!(
+        text.contains("chain: (\"shoulder_L\", \"wrist_L\")") && text.contains("targets: [\"arm_ik_ctrl_L\"]"),
+        "{text}"
+    );
+    for made in ["jointTranslate", "targetWorldMatrix", "arm_ik_L_pole", "goalMatrix"] {
+        assert!(!text.contains(made), "{made} in\n{text}");
+    }
+}
