@@ -23,6 +23,8 @@ pub mod mathnodes;
 pub mod matrix;
 pub mod mush;
 pub mod nonlinear;
+pub mod nurbs;
+pub mod pin;
 pub mod quat;
 #[cfg(feature = "skeletonize")]
 pub mod skeletonize;
@@ -49,6 +51,8 @@ pub fn register_all(registry: &mut Registry) -> Result<(), SpecError> {
     mush::register(registry)?;
     wire::register(registry)?;
     wrap::register(registry)?;
+    nurbs::register(registry)?;
+    pin::register(registry)?;
     #[cfg(feature = "skeletonize")]
     skeletonize::register(registry)?;
     Ok(())
