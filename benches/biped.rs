@@ -54,14 +54,14 @@ fn biped(c: &mut Criterion) {
     // (the instance runs the general schedule: the FK/IK switch differs from its compiled value).
     let mut ik_inst = Instance::new(pruned.clone());
     for side in ["L", "R"] {
-        let h = pruned.handle(&format!("arm_settings_{side}.input")).expect("handle");
+        let h = pruned.handle(&format!("arm_settings_{side}.ikFk")).expect("handle");
         ik_inst.set(&h, Value::Float(1.0)).expect("set");
     }
 
     // What an engine whose characters keep their arms in IK compiles: the same rig with the
     // switches set before compiling, so the guarded schedule is the IK one (the FK-only work
     // drops out of the frame). Switched back afterwards for the lazy case below.
-    let arm_switches = ["arm_settings_L.input", "arm_settings_R.input"];
+    let arm_switches = ["arm_settings_L.ikFk", "arm_settings_R.ikFk"];
     for s in arm_switches {
         graph.set_path(s, Value::Float(1.0)).expect("set");
     }

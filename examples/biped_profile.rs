@@ -46,7 +46,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         for inst in &mut instances {
             for side in ["L", "R"] {
                 inst.set(
-                    &program.handle(&format!("arm_settings_{side}.input"))?,
+                    &program.handle(&format!("arm_settings_{side}.ikFk"))?,
                     Value::Float(1.0),
                 )?;
             }

@@ -289,3 +289,69 @@ fn custom_attributes_through_the_commands() {
     assert_eq!(code, 0, "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn orient_joints_rewrites_the_rig_keeping_positions() {
+    let dir = std::env::temp_dir().join(format!("sinew-orient-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let rig = dir.join("arm.ron");
+    std::fs::write(
+        &rig,
+        r#"Rig(nodes: {
+  "shoulder": joint(translate: (0.2, 1.4, 0), rotate: (0, 0, -30)),
+  "elbow": joint(parent: "shoulder", translate: (0.3, 0, -0.05)),
+  "wrist": joint(parent: "elbow", translate: (0.25, 0.02, 0.03)),
+})"#,
+    )
+    .unwrap();
+    let r = rig.to_str().unwrap();
+    let print = "shoulder.worldMatrix,elbow.worldMatrix,wrist.worldMatrix";
+    let numbers = |out: &str| -> Vec<f64> {
+        out.lines()
+            .nth(1)
+            .unwrap()
+            .split(',')
+            .skip(1)
+            .map(|x| x.parse().unwrap())
+            .collect()
+    };
+    let (code, before, err) = sinew(&["eval", r, "--frames", "1..=1", "--print", print]);
+    assert_eq!(code, 0, "{err}");
+    let out = dir.join("oriented.ron");
+    let (code, msg, err) = sinew(&[
+        "orient-joints",
+        r,
+        "--aim",
+        "x",
+        "--up",
+        "y",
+        "--world-up",
+        "-z",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(msg.contains("oriented 3 joints"), "{msg}");
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(
+        text.contains("jointOrient") && !text.contains("rotate: (0.0, 0.0, -30.0)"),
+        "{text}"
+    );
+    let (code, after, err) = sinew(&["eval", out.to_str().unwrap(), "--frames", "1..=1", "--print", print]);
+    assert_eq!(code, 0, "{err}");
+    let (b, a) = (numbers(&before), numbers(&after));
+    for m in 0..3 {
+        for k in 12..15 {
+            assert!(
+                (a[16 * m + k] - b[16 * m + k]).abs() < 1e-12,
+                "matrix {m} [{k}]: {} vs {}",
+                a[16 * m + k],
+                b[16 * m + k]
+            );
+        }
+    }
+    let (code, _, err) = sinew(&["orient-joints", r, "--world-up", "w"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("--world-up"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}

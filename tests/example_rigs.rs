@@ -240,7 +240,7 @@ fn arm_elbow_bends_towards_the_pole() {
 #[test]
 fn arm_fk_blend_zero_gives_the_fk_pose_exactly() {
     let mut g = load("arm.ron").graph;
-    g.set_path("arm_settings_L.input", Value::Float(0.0)).unwrap();
+    g.set_path("arm_settings_L.ikFk", Value::Float(0.0)).unwrap();
     for frame in [1.0, 12.0, 24.0] {
         at(&mut g, frame);
         for (joint, ctrl) in [
@@ -433,7 +433,7 @@ fn biped_rest_pose_is_mirror_symmetric() {
 #[test]
 fn biped_arm_ik_reaches_its_control_with_stretch_and_soft_ik() {
     let mut g = load("biped/biped.ron").graph;
-    g.set_path("arm_settings_L.input", Value::Float(1.0)).unwrap();
+    g.set_path("arm_settings_L.ikFk", Value::Float(1.0)).unwrap();
     g.set_path("arm_ik_ctrl_L.translate", Value::Vec3(DVec3::new(0.5, 1.2, 0.25)))
         .unwrap();
     for frame in [1.0, 13.0, 25.0] {
@@ -476,8 +476,8 @@ fn biped_fk_arms_run_no_arm_ik_until_switched_to_ik() {
         .map(|n| program.handle(&format!("{n}.worldMatrix")).unwrap())
         .collect();
     let switch = [
-        program.handle("arm_settings_L.input").unwrap(),
-        program.handle("arm_settings_R.input").unwrap(),
+        program.handle("arm_settings_L.ikFk").unwrap(),
+        program.handle("arm_settings_R.ikFk").unwrap(),
     ];
     let mut inst = Instance::new(program.clone());
     let check = |g: &mut Graph, inst: &mut Instance, frame: f64| {
@@ -496,7 +496,7 @@ fn biped_fk_arms_run_no_arm_ik_until_switched_to_ik() {
     ] {
         for (h, side) in switch.iter().zip(["L", "R"]) {
             inst.set(h, Value::Float(ik)).unwrap();
-            g.set_path(&format!("arm_settings_{side}.input"), Value::Float(ik))
+            g.set_path(&format!("arm_settings_{side}.ikFk"), Value::Float(ik))
                 .unwrap();
         }
         for frame in frames {

@@ -122,9 +122,13 @@ fn check_playback(scene: &Scene, anim: Option<usize>, fps: f64) -> Graph {
     times.extend((0..40).map(|f| f as f64 / fps));
     let mut worst = 0.0f64;
     for &t in &times {
+        // The reference samples at f32 seconds (the glTF's key times are f32); sinew
+        // evaluates at f64 time. Sample both at a time f32 holds exactly, so a step key
+        // cannot fall between the two.
+        let tf = t as f32;
+        let t = f64::from(tf);
         // Evaluate at the frame whose seconds are t.
         inst.evaluate(Time::new(t * fps, fps)).unwrap();
-        let tf = (t * fps / fps) as f32;
         let want = reference_fk(scene, anim, tf);
         for (i, h) in handles.iter().enumerate() {
             let e = rel_err(&mat(inst.get(h)), &want[i]);

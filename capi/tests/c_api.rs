@@ -67,11 +67,13 @@ fn expected_joints() -> Vec<(String, i32, [f64; 3])> {
         .unwrap();
     let look = rig.input::<DVec3>("look_ctrl.translate").unwrap();
     let foot = rig.input::<f64>("foot_ctrl_L.translateX").unwrap();
+    let ikfk = rig.input::<f64>("arm_settings_L.ikFk").unwrap();
     let mut instances: Vec<_> = (0..4).map(|_| rig.instantiate()).collect();
     for (i, inst) in instances.iter_mut().enumerate() {
         inst.set(&look, DVec3::new(0.1 * i as f64, 0.7, 0.6)).unwrap();
         inst.set(&foot, 0.1 + 0.02 * i as f64).unwrap();
     }
+    instances[3].set(&ikfk, 1.0).unwrap();
     evaluate_batch(&mut instances, Time::new(10.0, rig.fps())).unwrap();
     let last = &instances[3];
     rig.joints()
@@ -120,7 +122,7 @@ fn run_and_check(binary: &Path) {
         }
     }
     let errors: Vec<&&str> = lines.iter().filter(|l| l.starts_with("error ")).collect();
-    assert_eq!(errors.len(), 3, "{stdout}");
+    assert_eq!(errors.len(), 4, "{stdout}");
     assert!(
         errors[0].starts_with("error 5 ") && errors[0].contains("translate"),
         "{}",
@@ -135,6 +137,12 @@ fn run_and_check(binary: &Path) {
         errors[2].starts_with("error 1 ") && errors[2].contains("null"),
         "{}",
         errors[2]
+    );
+    // A custom attribute's declared limits hold through the C API.
+    assert!(
+        errors[3].starts_with("error 6 ") && errors[3].contains("outside [0, 1]"),
+        "{}",
+        errors[3]
     );
     assert_eq!(lines.last(), Some(&"ok"));
 }

@@ -392,6 +392,14 @@ impl NodeType for CustomNode {
         self.base.custom_affects(custom, first)
     }
 
+    fn authoring_fields(&self) -> &[crate::rig::expand::AuthoringField] {
+        self.base.authoring_fields()
+    }
+
+    fn expand(&self, cx: &mut crate::rig::expand::ExpandContext<'_>) {
+        self.base.expand(cx)
+    }
+
     fn check_input(&self, spec: &NodeSpec, attr: AttrId, value: &Value) -> Result<(), InputError> {
         // Custom attributes come after the type's own, whose ids are unchanged.
         if attr.index() < self.base.spec().attrs.len() {

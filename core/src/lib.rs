@@ -45,6 +45,7 @@ pub use node::{ComputeContext, KnownInputs, NodeType, Time};
 pub use profile::{ProfileRow, ProfileTable, Profiler, StepTiming};
 pub use program::{evaluate_batch, CompileOptions, Instance, PlugHandle, Program};
 pub use registry::Registry;
+pub use rig::expand::{AuthoringField, ExpandContext, ExpandPhase, NamedWeights};
 pub use rig::{
     format_rig_file, graph_eq, load_rig, load_rig_str, rig_dependencies, save_rig, to_dot, to_json, Diagnostic,
     Diagnostics, LoadedRig, RigDocument,

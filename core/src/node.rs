@@ -15,6 +15,9 @@ pub use crate::inactive::KnownInputs;
 use crate::kernel::ScalarKernel;
 use crate::mat_kernel::MatrixKernel;
 use crate::program::{AttrBinding, Binding, CompiledTables, ElemBinding};
+#[allow(unused_imports)] // for doc links
+use crate::rig::expand::ExpandPhase;
+use crate::rig::expand::{AuthoringField, ExpandContext};
 use crate::slots::Slots;
 use crate::spec::{AttrId, AttrSpec, Input, MultiInput, MultiOutput, NodeSpec, Output};
 pub use crate::validate::{Problem, ValidateInputs};
@@ -68,6 +71,20 @@ pub trait NodeType: Send + Sync + 'static {
     fn unread_inputs(&self, known: &KnownInputs<'_>) -> Vec<AttrId> {
         let _ = known;
         Vec::new()
+    }
+
+    /// Authoring fields this type accepts in rig files besides its attributes (see
+    /// [`crate::rig::expand`]): compact declarations that [`NodeType::expand`] turns into
+    /// connections, values and helper nodes at load. The default has none.
+    fn authoring_fields(&self) -> &[AuthoringField] {
+        &[]
+    }
+
+    /// Expands the authoring fields written on a node (called once per [`ExpandPhase`],
+    /// only for nodes that wrote at least one): make connections and set values through
+    /// `cx`, report errors with `cx.error` at the field's position. The default does nothing.
+    fn expand(&self, cx: &mut ExpandContext<'_>) {
+        let _ = cx;
     }
 
     /// Checks the node's input values for data that evaluation would refuse or silently

@@ -36,6 +36,23 @@ impl Registry {
     /// Registers an already shared node type.
     pub fn register_arc(&mut self, node_type: Arc<dyn NodeType>) -> Result<(), SpecError> {
         let name = node_type.spec().name.clone();
+        let spec = node_type.spec();
+        for f in node_type.authoring_fields() {
+            // A field may share a non-string attribute's name: a string value (a plug path)
+            // or a named struct is then the authoring field, any other value the attribute.
+            let clash = spec
+                .find(f.name)
+                .is_some_and(|(id, _)| spec.attr(id).ty == crate::value::AttrType::String);
+            if clash || matches!(f.name, "parent" | "attrs") {
+                return Err(SpecError {
+                    node_type: name,
+                    message: format!(
+                        "authoring field {:?} is also a string attribute (or a reserved field)",
+                        f.name
+                    ),
+                });
+            }
+        }
         if self.types.contains_key(&name) {
             return Err(SpecError {
                 node_type: name,

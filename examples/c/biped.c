@@ -44,9 +44,11 @@ int main(int argc, char **argv) {
     CHECK(sinew_rig_joint_parents(rig, parents, joints));
 
     /* Handles are resolved once; per frame there is no string lookup. */
-    uint32_t look, foot;
+    uint32_t look, foot, ikfk;
     CHECK(sinew_rig_find_input(rig, "look_ctrl.translate", &look));
     CHECK(sinew_rig_find_input(rig, "foot_ctrl_L.translateX", &foot));
+    /* A custom attribute of the rig (attrs: {..} on the arm's settings control). */
+    CHECK(sinew_rig_find_input(rig, "arm_settings_L.ikFk", &ikfk));
 
     SinewInstance *instances[INSTANCES];
     for (int i = 0; i < INSTANCES; i++) {
@@ -54,6 +56,8 @@ int main(int argc, char **argv) {
         CHECK(sinew_instance_set_vec3(instances[i], look, 0.1 * i, 0.7, 0.6));
         CHECK(sinew_instance_set_float(instances[i], foot, 0.1 + 0.02 * i));
     }
+    /* The last instance has its left arm in IK. */
+    CHECK(sinew_instance_set_float(instances[INSTANCES - 1], ikfk, 1.0));
     CHECK(sinew_evaluate_batch(instances, INSTANCES, 10.0));
 
     float *matrices = malloc(joints * 16 * sizeof(float));
@@ -70,6 +74,8 @@ int main(int argc, char **argv) {
     s = sinew_instance_set_float(instances[0], 99, 1.0);
     printf("error %d %s\n", (int)s, sinew_last_error_message());
     s = sinew_instance_evaluate(NULL, 1.0);
+    printf("error %d %s\n", (int)s, sinew_last_error_message());
+    s = sinew_instance_set_float(instances[0], ikfk, 2.0); /* ikFk is declared in [0, 1] */
     printf("error %d %s\n", (int)s, sinew_last_error_message());
 
     for (int i = 0; i < INSTANCES; i++) sinew_instance_free(instances[i]);

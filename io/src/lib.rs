@@ -19,6 +19,7 @@ mod retarget_map;
 pub mod rig_builder;
 pub mod runtime_view;
 pub mod scene;
+pub mod weights_file;
 
 pub use bvh::{parse_bvh, Bvh, BvhError};
 pub use gltf_read::{read_gltf, read_gltf_slice};

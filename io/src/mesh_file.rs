@@ -1,7 +1,8 @@
 //! Meshes from files: Wavefront OBJ ([`crate::obj`]) and glTF (the first primitive of the
 //! first mesh, through [`super::read_gltf`]), and the rig-file hook that resolves
 //! `inMesh: File("body.obj")` references ([`MeshFileSource`], [`load_rig`]), along with
-//! the value files importers write (`File("x.data/…bin")`, read by the core).
+//! the value files importers write (`File("x.data/…bin")`, read by the core) and skin
+//! weights files (`weights: File("body.weights.json")`, [`crate::weights_file`]).
 //!
 //! Every file is read through [`sinew_core::files`]: regular files only, at most
 //! [`sinew_core::files::DATA`] (1 GiB).
@@ -15,7 +16,7 @@ use std::sync::Arc;
 
 use sinew_core::files::{read_text, DATA};
 use sinew_core::rig::{normalize, FsSource, LoadLimits, RigSource};
-use sinew_core::{AttrType, Diagnostics, LoadedRig, Mesh, Registry, Value};
+use sinew_core::{AttrType, Diagnostics, LoadedRig, Mesh, NamedWeights, Registry, Value};
 
 /// Whether `path` names a mesh file format [`load_mesh`] reads (by extension).
 pub fn is_mesh_file(path: &Path) -> bool {
@@ -89,6 +90,10 @@ impl RigSource for MeshFileSource {
             AttrType::Mesh if is_mesh_file(path) => load_mesh(path).map(|m| Value::Mesh(Arc::new(m))),
             _ => FsSource.load_value(path, ty),
         }
+    }
+
+    fn load_weights(&self, path: &Path) -> Result<NamedWeights, String> {
+        crate::weights_file::load_weights(path)
     }
 }
 

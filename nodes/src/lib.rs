@@ -10,6 +10,7 @@ use sinew_core::{Registry, SpecError};
 
 pub mod anim;
 pub mod animblend;
+pub mod authoring;
 pub mod cluster;
 pub mod constraint;
 pub mod deform;

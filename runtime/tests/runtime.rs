@@ -142,7 +142,7 @@ fn dynamic_inputs_only_rerun_their_downstream() {
     let p = rig.program();
     assert!(p.frame_step_count() < p.step_count());
     // Setting a non-dynamic input still works (the next evaluation is a full one).
-    let curl = rig.input::<f64>("hand_curl_L.input").unwrap();
+    let curl = rig.input::<f64>("fk_wrist_ctrl_L.curl").unwrap();
     let mut a = rig.instantiate();
     let mut b = rig.instantiate();
     a.evaluate_frame(1.0).unwrap();

@@ -84,6 +84,30 @@ enum Command {
         #[arg(long)]
         check: bool,
     },
+    /// Orient joints as Maya's Orient Joint: aim axis at the child joint, up axis toward a
+    /// world axis, orientation into jointOrient; world positions kept. Rewrites the rig.
+    OrientJoints {
+        /// The rig file.
+        rig: PathBuf,
+        /// The local axis that points at the first child joint.
+        #[arg(long, default_value = "x", value_parser = ["x", "y", "z"])]
+        aim: String,
+        /// The local axis that points toward --world-up.
+        #[arg(long, default_value = "y", value_parser = ["x", "y", "z"])]
+        up: String,
+        /// The world direction for the up axis (x, y, z, -x, -y, -z; Maya's secondary axis orient).
+        #[arg(long, default_value = "y", allow_hyphen_values = true)]
+        world_up: String,
+        /// Only these joints (comma-separated); default every joint.
+        #[arg(long, value_delimiter = ',')]
+        joints: Vec<String>,
+        /// With --joints: their descendant joints too.
+        #[arg(long)]
+        children: bool,
+        /// Write here instead of rewriting the rig.
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+    },
     /// Print a rig's node graph as Graphviz DOT (default), JSON, an SVG picture or an HTML page.
     Graph {
         /// The rig file.
@@ -333,6 +357,29 @@ fn execute(cli: Cli, out: &mut Output<'_>) -> Result<(), CliError> {
             }
         }
         Command::Fmt { rigs, check } => out.text(&rig_cmds::fmt(&rigs, check, &registry)?)?,
+        Command::OrientJoints {
+            rig,
+            aim,
+            up,
+            world_up,
+            joints,
+            children,
+            output,
+        } => {
+            let report = rig_cmds::orient_joints(
+                &rig,
+                rig_cmds::OrientArgs {
+                    aim: &aim,
+                    up: &up,
+                    world_up: &world_up,
+                    joints: &joints,
+                    children,
+                    output: output.as_deref(),
+                },
+                &registry,
+            )?;
+            out.text(&report)?
+        }
         Command::Graph {
             rig,
             dot: _,

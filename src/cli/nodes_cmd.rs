@@ -4,10 +4,10 @@
 use std::fmt::Write as _;
 
 use serde_json::json;
-use sinew_core::{AttrSpec, AttrType, Direction, Graph, NodeSpec, Registry, Unit, Value};
+use sinew_core::{AttrSpec, AttrType, AuthoringField, Direction, Graph, NodeSpec, Registry, Unit, Value};
 
-/// Human-readable listing of one node type.
-fn describe(spec: &NodeSpec, out: &mut String) {
+/// Human-readable listing of one node type (`fields`: its authoring fields).
+fn describe(spec: &NodeSpec, fields: &[AuthoringField], out: &mut String) {
     let _ = writeln!(
         out,
         "{}{}",
@@ -20,6 +20,9 @@ fn describe(spec: &NodeSpec, out: &mut String) {
     );
     for a in &spec.attrs {
         let _ = writeln!(out, "    {}", attr_line(a));
+    }
+    for f in fields {
+        let _ = writeln!(out, "    field {}  // {}", f.name, f.doc);
     }
 }
 
@@ -100,6 +103,11 @@ fn attr_json(a: &AttrSpec) -> serde_json::Value {
     })
 }
 
+/// The authoring fields of the type `spec` describes.
+fn fields_of<'r>(registry: &'r Registry, spec: &NodeSpec) -> &'r [AuthoringField] {
+    registry.get(&spec.name).map_or(&[], |t| t.authoring_fields())
+}
+
 /// Renders the listing of `only` (or all types) as text or JSON.
 pub fn render(registry: &Registry, only: Option<&str>, as_json: bool) -> Result<String, String> {
     let specs: Vec<&NodeSpec> = match only {
@@ -118,6 +126,10 @@ pub fn render(registry: &Registry, only: Option<&str>, as_json: bool) -> Result<
                     "doc": s.doc,
                     "timeDependent": s.time_dependent,
                     "attributes": s.attrs.iter().map(attr_json).collect::<Vec<_>>(),
+                    "authoringFields": fields_of(registry, s)
+                        .iter()
+                        .map(|f| json!({ "name": f.name, "doc": f.doc }))
+                        .collect::<Vec<_>>(),
                 })
             })
             .collect();
@@ -125,7 +137,7 @@ pub fn render(registry: &Registry, only: Option<&str>, as_json: bool) -> Result<
     }
     let mut out = String::new();
     for s in specs {
-        describe(s, &mut out);
+        describe(s, fields_of(registry, s), &mut out);
     }
     Ok(out)
 }

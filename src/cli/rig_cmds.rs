@@ -109,6 +109,49 @@ pub fn fmt(paths: &[PathBuf], check_only: bool, registry: &Arc<Registry>) -> Res
     }
 }
 
+/// The options of `sinew orient-joints`.
+pub struct OrientArgs<'a> {
+    /// Aim axis (x, y, z).
+    pub aim: &'a str,
+    /// Up axis (x, y, z).
+    pub up: &'a str,
+    /// World up direction, with sign.
+    pub world_up: &'a str,
+    /// Joints to orient (empty: all).
+    pub joints: &'a [String],
+    /// Orient the joints' descendants too.
+    pub children: bool,
+    /// Where to write (default: the rig itself).
+    pub output: Option<&'a Path>,
+}
+
+/// `sinew orient-joints RIG`: orients joints (see `sinew_nodes::transform::orient_joints`)
+/// and writes the rig back in canonical form.
+pub fn orient_joints(path: &Path, a: OrientArgs<'_>, registry: &Arc<Registry>) -> Result<String, String> {
+    use sinew_nodes::transform::orient_joints::{axis_vector, orient_joints, OrientJoints};
+    let axis = |s: &str| {
+        ["x", "y", "z"]
+            .iter()
+            .position(|x| *x == s)
+            .ok_or(format!("unknown axis {s:?}"))
+    };
+    let world_up =
+        axis_vector(a.world_up).ok_or(format!("--world-up {:?}: write x, y, z, -x, -y or -z", a.world_up))?;
+    let opts = OrientJoints {
+        aim: axis(a.aim)?,
+        up: axis(a.up)?,
+        world_up,
+        joints: (!a.joints.is_empty()).then(|| a.joints.to_vec()),
+        children: a.children,
+    };
+    let mut rig = load(path, registry)?;
+    let done = orient_joints(&mut rig.graph, &opts).map_err(|e| format!("{}: {e}", path.display()))?;
+    let text = sinew_core::rig::save_rig(&rig.graph, &rig.document);
+    let out = a.output.unwrap_or(path);
+    std::fs::write(out, text).map_err(|e| format!("{}: cannot write: {e}", out.display()))?;
+    Ok(format!("{}: oriented {} joints", out.display(), done.len()))
+}
+
 /// What `sinew graph` prints.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum GraphFormat {

@@ -228,6 +228,12 @@ impl Graph {
         self.nodes.get(id).map(|n| n.type_name.as_str())
     }
 
+    /// A node's type (a [`crate::CustomNode`] over the registered one when the node has
+    /// custom attributes).
+    pub fn node_kind(&self, id: NodeId) -> Option<Arc<dyn NodeType>> {
+        self.nodes.get(id).map(|n| n.kind.clone())
+    }
+
     /// The spec of a node's type.
     pub fn node_spec(&self, id: NodeId) -> Option<&NodeSpec> {
         self.nodes.get(id).map(|n| n.spec())

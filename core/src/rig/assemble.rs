@@ -113,7 +113,14 @@ fn node_order(nodes: &[NodeId], edges: impl Iterator<Item = (NodeId, NodeId)>) -
     post
 }
 
-pub(super) fn build_graph(flat: &Flat, registry: &Arc<Registry>, diags: &mut Diagnostics, hidden: &mut usize) -> Graph {
+/// Builds the graph of `flat`; returns it with the id of each flat node (`None` where the
+/// node could not be created).
+pub(super) fn build_graph(
+    flat: &Flat,
+    registry: &Arc<Registry>,
+    diags: &mut Diagnostics,
+    hidden: &mut usize,
+) -> (Graph, Vec<Option<NodeId>>) {
     let mut g = Graph::new(registry.clone());
     let mut first: HashMap<&str, &FlatNode> = HashMap::new();
     let mut quiet = Quiet {
@@ -322,5 +329,5 @@ pub(super) fn build_graph(flat: &Flat, registry: &Arc<Registry>, diags: &mut Dia
             Err(e) => diags.push(Diagnostic::new(c.src_span.clone(), e.to_string()).hint("check the connection")),
         }
     }
-    g
+    (g, ids)
 }

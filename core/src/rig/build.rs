@@ -82,6 +82,10 @@ pub(super) struct FlatNode {
     pub(super) via: Option<Span>,
     /// Custom attributes (`attrs: {..}`), each with its position; `kind` already has them.
     pub(super) custom: Vec<(AttrSpec, Span)>,
+    /// Authoring fields (see [`super::expand`]) as written, names mapped by the uses.
+    pub(super) authoring: Vec<(String, Span, Node)>,
+    /// The top-level `Use` that created the node, by position.
+    pub(super) use_index: Option<usize>,
 }
 
 #[derive(Clone)]
@@ -538,12 +542,31 @@ impl<'a> Expander<'a> {
             value_index: HashMap::new(),
             via: None,
             custom: Vec::new(),
+            authoring: Vec::new(),
+            use_index: None,
         };
         if let Some((_, _, v)) = n.fields.iter().find(|f| f.0 == "attrs") {
             self.custom_attrs(&mut node, v);
         }
+        let authoring: Vec<&str> = node
+            .kind
+            .as_ref()
+            .map(|k| k.authoring_fields().iter().map(|f| f.name).collect())
+            .unwrap_or_default();
         for (f, fs, v) in &n.fields {
-            if f != "attrs" {
+            // A field sharing an attribute's name is the authoring field when its value is a
+            // string (a node or plug name) or a named struct other than `File(..)`
+            // (`curve: curveFromPoints(..)`), the attribute otherwise (`twist: 30` vs
+            // `twist: "ctrl.twist"`).
+            let shadowed = node.kind.as_ref().is_some_and(|k| k.spec().find(f).is_some());
+            let authoring_value = match &v.kind {
+                Ast::Str { .. } => true,
+                Ast::Group { name: Some(n), .. } => n != "File",
+                _ => false,
+            };
+            if authoring.contains(&f.as_str()) && (!shadowed || authoring_value) {
+                node.authoring.push((f.clone(), fs.clone(), v.clone()));
+            } else if f != "attrs" {
                 self.field(&mut node, f, fs, v);
             }
         }
@@ -651,13 +674,16 @@ impl<'a> Expander<'a> {
             if self.over_limit {
                 return flat;
             }
-            let sub = self.expand_use(u, scope, stack);
+            let mut sub = self.expand_use(u, scope, stack);
             flat.absorb(&sub);
             if u.broken {
                 flat.suppressed.extend(sub.nodes.into_iter().map(|n| n.name));
                 continue;
             }
             if let Some(r) = records.as_deref_mut() {
+                for n in &mut sub.nodes {
+                    n.use_index = Some(r.len());
+                }
                 r.push(UseRecord {
                     nodes: sub
                         .nodes
@@ -886,9 +912,39 @@ impl<'a> Expander<'a> {
             c.src = map_node_part(&c.src, &map);
             c.dst = map_node_part(&c.dst, &map);
         }
+        for n in &mut flat.nodes {
+            let Some(kind) = n.kind.clone() else { continue };
+            for (f, _, v) in &mut n.authoring {
+                if kind.authoring_fields().iter().any(|a| a.name == f && a.names) {
+                    map_strings(v, &|s| map_node_part(s, &map));
+                }
+            }
+        }
         flat.suppressed = flat.suppressed.iter().map(|n| map(n)).collect();
         flat
     }
+}
+
+/// Applies `f` to every string inside `n` (an authoring field naming nodes or plugs).
+fn map_strings(n: &mut Node, f: &dyn Fn(&str) -> String) {
+    match &mut n.kind {
+        Ast::Str { value, exact } => {
+            let mapped = f(value);
+            if mapped != *value {
+                *value = mapped;
+                *exact = false;
+            }
+        }
+        Ast::List(items) => items.iter_mut().for_each(|x| map_strings(x, f)),
+        Ast::Map(entries) => entries.iter_mut().for_each(|(_, v)| map_strings(v, f)),
+        Ast::Group { items, .. } => items.iter_mut().for_each(|i| map_strings(&mut i.value, f)),
+        _ => {}
+    }
+}
+
+/// The first frame a document names, if any.
+fn doc_frames_start(doc: &RigDocument) -> Option<f64> {
+    doc.frames.map(|f| f.0)
 }
 
 /// A loaded rig: the graph, the document it came from (to save it back with
@@ -979,7 +1035,7 @@ pub fn load_rig_with_limits(
         return Err(diags);
     }
     let mut hidden = exp.hidden;
-    let graph = super::assemble::build_graph(&flat, registry, &mut diags, &mut hidden);
+    let (mut graph, ids) = super::assemble::build_graph(&flat, registry, &mut diags, &mut hidden);
     if let Some(cause) = flat.opaque.filter(|_| hidden > 0) {
         if let Some(d) = diags.errors.get_mut(cause) {
             let note = d.span.clone();
@@ -993,6 +1049,17 @@ pub fn load_rig_with_limits(
             );
         }
     }
+    if doc_frames_start(&scope.doc).is_some() || scope.doc.fps.is_some() {
+        graph.set_time(Time::new(
+            doc_frames_start(&scope.doc).unwrap_or(0.0),
+            scope.doc.fps.unwrap_or(Time::default().fps),
+        ));
+    }
+    let expansions = if diags.is_empty() {
+        super::expand_run::run(&mut graph, &flat, &ids, source, &mut diags)
+    } else {
+        Vec::new()
+    };
     let files = exp.deps.clone();
     let file_values = exp.file_values.take();
     drop(exp);
@@ -1018,16 +1085,11 @@ pub fn load_rig_with_limits(
             })
             .collect();
     }
+    super::expand_run::file_expansions(&graph, expansions, &mut records, &mut doc.expansions);
     doc.records = records;
     doc.syntax = Some(root);
     doc.file_values = file_values;
     super::canon::long_names(&mut doc, &graph, registry);
-    if doc.fps.is_some() || doc.frames.is_some() {
-        graph.set_time(Time::new(
-            doc.frames.map(|f| f.0).unwrap_or(0.0),
-            doc.fps.unwrap_or(Time::default().fps),
-        ));
-    }
     Ok(LoadedRig {
         graph,
         document: doc,

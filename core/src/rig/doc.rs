@@ -138,6 +138,9 @@ pub struct RigDocument {
     /// referenced file (normalized path), so [`save_rig`](super::save_rig) writes the
     /// reference back instead of the data while the value is unchanged.
     pub(crate) file_values: Vec<(Value, PathBuf)>,
+    /// Filled by the loader: what the authoring fields of the rig's own nodes expanded
+    /// into, so [`save_rig`](super::save_rig) writes the compact fields back.
+    pub(crate) expansions: Vec<super::expand::Expansion>,
     /// Filled by the loader: the file's syntax tree with its comments, which
     /// [`save_rig`](super::save_rig) carries over to the canonical text.
     pub(crate) syntax: Option<super::parse::Node>,

@@ -2,7 +2,8 @@
 //!
 //! Layout by role: the `Rig( .. )`, its sections (`components`, `uses`, `nodes`,
 //! `connections`, `set`) and component bodies are one entry per line; a node is one line
-//! when it fits in [`LINE`] characters (or has one field), else one field per line;
+//! when it fits in [`LINE`] characters (or has one field), else one field per line (its
+//! custom attribute declarations, `attrs: { .. }`, likewise one per line when too long);
 //! values are one line. Comments break that: a value with comments inside is printed
 //! over lines, scalars filling lines (a line ends after each trailing comment, so a
 //! matrix with a comment per row keeps its rows) and other entries one per line.
@@ -31,6 +32,8 @@ pub(super) enum Role {
     Nodes,
     /// One node, `type( .. )`.
     NodeDecl,
+    /// A node's custom attribute declarations, `attrs: { .. }`.
+    Attrs,
     /// `connections: [ .. ]`.
     Conns,
     /// `set: { .. }`.
@@ -53,12 +56,13 @@ impl Role {
             },
             Role::Components => Role::Body,
             Role::Nodes => Role::NodeDecl,
+            Role::NodeDecl if key == Some("attrs") => Role::Attrs,
             _ => Role::Value,
         }
     }
 
     fn vertical(self) -> bool {
-        !matches!(self, Role::NodeDecl | Role::Value)
+        !matches!(self, Role::NodeDecl | Role::Attrs | Role::Value)
     }
 }
 
@@ -155,10 +159,11 @@ pub(super) fn print_value(out: &mut String, n: &Node, role: Role, ind: usize) {
     };
     let inside = comments_inside(n);
     let vertical = match role {
-        Role::NodeDecl => {
+        // `,` follows a node; one field stays on its line however long. Custom attribute
+        // declarations too long for their line go one per line.
+        Role::NodeDecl | Role::Attrs => {
             let mut one = String::new();
             print_ast(&mut one, &n.kind);
-            // `,` follows a node; one field stays on its line however long.
             inside || (column(out) + one.chars().count() + 1 > LINE && items.len() > 1)
         }
         Role::Value => inside,

@@ -27,6 +27,8 @@ mod custom_decl;
 pub mod diag;
 pub mod doc;
 mod doc_print;
+pub mod expand;
+mod expand_run;
 mod export;
 mod fmt_comments;
 mod fmt_print;

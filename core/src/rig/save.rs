@@ -192,19 +192,22 @@ pub fn save_rig(graph: &Graph, doc: &RigDocument) -> String {
         })
         .collect();
 
+    let compact = compact_expansions(graph, doc, &conn_set);
+
     // Node order: the document's, then new nodes in creation order.
     let all = graph.nodes();
     let mut order: Vec<NodeId> = Vec::new();
     let mut placed: HashSet<NodeId> = HashSet::new();
+    let hidden = |id: &NodeId| owned.contains_key(id) || compact.nodes.contains(id);
     for n in &doc.body.nodes {
         if let Some(id) = graph.find_node(&n.name) {
-            if !owned.contains_key(&id) && placed.insert(id) {
+            if !hidden(&id) && placed.insert(id) {
                 order.push(id);
             }
         }
     }
     for &id in &all {
-        if !owned.contains_key(&id) && placed.insert(id) {
+        if !hidden(&id) && placed.insert(id) {
             order.push(id);
         }
     }
@@ -227,7 +230,8 @@ pub fn save_rig(graph: &Graph, doc: &RigDocument) -> String {
             if !a.is_input() {
                 continue;
             }
-            let els = authored(graph, id, attr, a);
+            let mut els = authored(graph, id, attr, a);
+            els.retain(|e| !compact.values.contains(&plug_path(name, a, e.index, None)));
             if a.multi {
                 let undriven: Vec<(u32, Ast)> = els
                     .iter()
@@ -264,6 +268,9 @@ pub fn save_rig(graph: &Graph, doc: &RigDocument) -> String {
                     }
                 }
             }
+        }
+        if let Some(f) = compact.fields.get(&id) {
+            fields.extend(f.iter().cloned());
         }
         nodes.push(PrintNode {
             name,
@@ -321,6 +328,7 @@ pub fn save_rig(graph: &Graph, doc: &RigDocument) -> String {
     let mut connections: Vec<((usize, usize), String, String)> = conns
         .iter()
         .filter(|c| !rec_conns.contains(&(c.2.as_str(), c.3.as_str())))
+        .filter(|c| !compact.conns.contains(&(c.2.clone(), c.3.clone())))
         .map(|c| {
             let at = written
                 .get(&format!("{} -> {}", c.2, c.3))
@@ -396,6 +404,64 @@ fn with_comments(text: &str, orig: &Node, graph: &Graph) -> String {
     };
     super::fmt_comments::transfer(orig, &mut tree, &GraphIds(graph));
     super::fmt_print::print_file(&tree)
+}
+
+/// What the expansions of the rig's own nodes made that saving leaves to the compact
+/// authoring fields (see [`super::expand`]): only expansions whose work is intact (every
+/// connection there, every helper node there with no value but the ones the expansion set,
+/// every value it set unchanged); the others are written expanded.
+#[derive(Default)]
+struct Compact<'d> {
+    conns: HashSet<(String, String)>,
+    nodes: HashSet<NodeId>,
+    values: HashSet<String>,
+    fields: HashMap<NodeId, &'d [(String, Ast)]>,
+}
+
+fn compact_expansions<'d>(graph: &Graph, doc: &'d RigDocument, conn_set: &HashSet<(&str, &str)>) -> Compact<'d> {
+    let mut out = Compact::default();
+    for e in &doc.expansions {
+        let Some(id) = graph.find_node(&e.node) else { continue };
+        let recorded = |path: &str| e.values.iter().find(|(p, _)| p == path).map(|(_, v)| v);
+        let same = |path: &str, v: &Value| recorded(path).is_some_and(|r| r.same_bits(v));
+        let conns_ok = e
+            .connections
+            .iter()
+            .all(|(s, d)| conn_set.contains(&(s.as_str(), d.as_str())));
+        let values_ok = e.values.iter().all(|(p, v)| {
+            graph
+                .plug(p)
+                .ok()
+                .and_then(|p| graph.stored(p))
+                .is_some_and(|x| x.same_bits(v))
+        });
+        let helpers: Option<Vec<NodeId>> = e.nodes.iter().map(|n| graph.find_node(n)).collect();
+        let helpers_ok = helpers.as_ref().is_some_and(|hs| {
+            hs.iter().all(|&h| {
+                let (Some(spec), Some(name)) = (graph.node_spec(h), graph.node_name(h)) else {
+                    return false;
+                };
+                spec.custom_attrs().is_empty()
+                    && spec.attr_ids().filter(|&a| spec.attr(a).is_input()).all(|a| {
+                        let at = spec.attr(a);
+                        authored(graph, h, a, at).iter().all(|x| match &x.value {
+                            Some(v) if x.driven_comps == [false; 3] => {
+                                (!at.multi && v.same_bits(&at.default)) || same(&plug_path(name, at, x.index, None), v)
+                            }
+                            _ => x.driven_comps == [true; 3],
+                        })
+                    })
+            })
+        });
+        if !(conns_ok && values_ok && helpers_ok) {
+            continue;
+        }
+        out.conns.extend(e.connections.iter().cloned());
+        out.nodes.extend(helpers.unwrap_or_default());
+        out.values.extend(e.values.iter().map(|(p, _)| p.clone()));
+        out.fields.insert(id, &e.fields);
+    }
+    out
 }
 
 /// Whether two lists of custom attribute declarations say the same.

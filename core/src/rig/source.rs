@@ -32,6 +32,18 @@ pub trait RigSource {
             path.display()
         ))
     }
+
+    /// Loads skin weights with their influence names from a file (a skinCluster's
+    /// `weights: File("body.weights.json")`); `path` is already resolved. The core knows no
+    /// weights format, so the default refuses; the facade's source
+    /// (`sinew::io::mesh_file::MeshFileSource`) reads sinew's JSON weights and Maya's
+    /// `deformerWeights` XML.
+    fn load_weights(&self, path: &Path) -> Result<super::expand::NamedWeights, String> {
+        Err(format!(
+            "cannot read weights from {}: weights files need the sinew facade (load the rig with sinew::io::mesh_file::load_rig)",
+            path.display()
+        ))
+    }
 }
 
 /// Reads files from disk: rig text through [`crate::files::read_text`] (regular files up

@@ -95,6 +95,11 @@ fn fmt_keeps_custom_attributes() {
     // The uses stay uses; the plain node's declarations are written in canonical form.
     assert!(text.contains("Use(component: \"foot\", mirror: YZ"), "{text}");
     assert!(text.contains("\"count\": int(default: 3, min: 0)"), "{text}");
+    // Declarations too long for the node's line go one per line.
+    assert!(
+        text.contains("            attrs: {\n                \"label\": string(default: \"left arm\"),\n"),
+        "{text}"
+    );
     assert!(
         text.contains("\"gains\": float(multi: true, doc: \"one gain per finger\")"),
         "{text}"

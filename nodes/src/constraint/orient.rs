@@ -103,6 +103,14 @@ impl NodeType for OrientConstraint {
         &self.spec
     }
 
+    fn authoring_fields(&self) -> &[sinew_core::AuthoringField] {
+        &crate::authoring::constraint::FIELDS
+    }
+
+    fn expand(&self, cx: &mut sinew_core::ExpandContext<'_>) {
+        crate::authoring::constraint::expand(cx, crate::authoring::constraint::Kind::Orient)
+    }
+
     fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
         let ts = self.targets.read(ctx);
         let pim = ctx.get(self.parent_inverse);
@@ -260,6 +268,14 @@ impl AimConstraint {
 impl NodeType for AimConstraint {
     fn spec(&self) -> &NodeSpec {
         &self.spec
+    }
+
+    fn authoring_fields(&self) -> &[sinew_core::AuthoringField] {
+        &crate::authoring::constraint::AIM_FIELDS
+    }
+
+    fn expand(&self, cx: &mut sinew_core::ExpandContext<'_>) {
+        crate::authoring::constraint::expand(cx, crate::authoring::constraint::Kind::Aim)
     }
 
     fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {

@@ -107,6 +107,14 @@ impl NodeType for ParentConstraint {
         &self.spec
     }
 
+    fn authoring_fields(&self) -> &[sinew_core::AuthoringField] {
+        &crate::authoring::constraint::FIELDS
+    }
+
+    fn expand(&self, cx: &mut sinew_core::ExpandContext<'_>) {
+        crate::authoring::constraint::expand(cx, crate::authoring::constraint::Kind::Parent)
+    }
+
     fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
         let ts = self.targets.read(ctx);
         let pim = ctx.get(self.parent_inverse);
@@ -188,6 +196,14 @@ impl PointConstraint {
 impl NodeType for PointConstraint {
     fn spec(&self) -> &NodeSpec {
         &self.spec
+    }
+
+    fn authoring_fields(&self) -> &[sinew_core::AuthoringField] {
+        &crate::authoring::constraint::FIELDS
+    }
+
+    fn expand(&self, cx: &mut sinew_core::ExpandContext<'_>) {
+        crate::authoring::constraint::expand(cx, crate::authoring::constraint::Kind::Point)
     }
 
     fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {

@@ -81,6 +81,14 @@ impl NodeType for ScaleConstraint {
         &self.spec
     }
 
+    fn authoring_fields(&self) -> &[sinew_core::AuthoringField] {
+        &crate::authoring::constraint::FIELDS
+    }
+
+    fn expand(&self, cx: &mut sinew_core::ExpandContext<'_>) {
+        crate::authoring::constraint::expand(cx, crate::authoring::constraint::Kind::Scale)
+    }
+
     fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
         let ts = self.targets.read(ctx);
         let pi = DMat3::from_mat4(ctx.get(self.parent_inverse));

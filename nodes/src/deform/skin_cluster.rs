@@ -357,6 +357,14 @@ impl NodeType for SkinCluster {
         &self.spec
     }
 
+    fn authoring_fields(&self) -> &[sinew_core::AuthoringField] {
+        &crate::authoring::skin::FIELDS
+    }
+
+    fn expand(&self, cx: &mut sinew_core::ExpandContext<'_>) {
+        crate::authoring::skin::expand(cx)
+    }
+
     /// Weights against the mesh and the influences: one row per vertex of the input mesh,
     /// and every joint a weight names has a `matrix[j]` element.
     fn validate(&self, inputs: &ValidateInputs<'_>) -> Vec<Problem> {

@@ -229,6 +229,14 @@ impl NodeType for IkRp {
         &self.spec
     }
 
+    fn authoring_fields(&self) -> &[sinew_core::AuthoringField] {
+        &crate::authoring::ik::RP_FIELDS
+    }
+
+    fn expand(&self, cx: &mut sinew_core::ExpandContext<'_>) {
+        crate::authoring::ik::expand(cx, crate::authoring::ik::Solver::RotatePlane)
+    }
+
     fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
         with_node_scratch(|ns| self.compute_with(ctx, ns))
     }

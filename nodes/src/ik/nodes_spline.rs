@@ -98,6 +98,14 @@ impl NodeType for IkSpline {
         &self.spec
     }
 
+    fn authoring_fields(&self) -> &[sinew_core::AuthoringField] {
+        &crate::authoring::ik::SPLINE_FIELDS
+    }
+
+    fn expand(&self, cx: &mut sinew_core::ExpandContext<'_>) {
+        crate::authoring::ik::expand(cx, crate::authoring::ik::Solver::Spline)
+    }
+
     /// A known, non-empty curve must be a valid B-spline (knot count for its degree and
     /// points, non-decreasing knots): an invalid one would leave the chain at rest.
     fn validate(&self, inputs: &ValidateInputs<'_>) -> Vec<Problem> {

@@ -14,6 +14,7 @@ pub mod euler;
 pub mod math;
 pub mod matrix_nodes;
 pub mod orient;
+pub mod orient_joints;
 pub mod time_node;
 pub mod trig;
 
