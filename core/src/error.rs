@@ -198,6 +198,27 @@ pub enum Error {
         /// What was stale.
         what: String,
     },
+    /// Setting a number outside an attribute's hard limits (Maya's `setAttr` refuses it
+    /// too unless told to clamp).
+    #[error("{plug}: {value} {reason}; give a value inside the attribute's range")]
+    OutOfRange {
+        /// The plug.
+        plug: String,
+        /// The refused value.
+        value: f64,
+        /// Which limit it breaks.
+        reason: String,
+    },
+    /// Adding or removing a custom attribute that cannot be added or removed.
+    #[error("node {node:?}: custom attribute {attr:?}: {reason}")]
+    CustomAttr {
+        /// The node.
+        node: String,
+        /// The attribute.
+        attr: String,
+        /// Why, and the fix.
+        reason: String,
+    },
     /// A compiled-program handle used for the wrong purpose.
     #[error("{0}")]
     Program(String),

@@ -8,6 +8,7 @@
 
 use std::sync::Arc;
 
+use crate::custom::CustomAffects;
 use crate::error::ComputeError;
 use crate::graph::store::AttrStore;
 pub use crate::inactive::KnownInputs;
@@ -15,7 +16,7 @@ use crate::kernel::ScalarKernel;
 use crate::mat_kernel::MatrixKernel;
 use crate::program::{AttrBinding, Binding, CompiledTables, ElemBinding};
 use crate::slots::Slots;
-use crate::spec::{AttrId, Input, MultiInput, MultiOutput, NodeSpec, Output};
+use crate::spec::{AttrId, AttrSpec, Input, MultiInput, MultiOutput, NodeSpec, Output};
 use crate::value::{AttrValue, SharedData, Value};
 
 /// A node type: its spec and its compute function.
@@ -66,6 +67,29 @@ pub trait NodeType: Send + Sync + 'static {
     fn unread_inputs(&self, known: &KnownInputs<'_>) -> Vec<AttrId> {
         let _ = known;
         Vec::new()
+    }
+
+    /// For node types whose compute reads or writes custom attributes (an expression node
+    /// whose named inputs and outputs are custom attributes): given the custom attributes
+    /// of a node (their ids start at `first`), which attributes affect each custom output
+    /// and which custom outputs read the graph's time (see [`CustomAffects`]). `compute`
+    /// then reaches them through [`ComputeContext::node_spec`] and handles made from their
+    /// ids ([`Input::new`], [`Output::new`]).
+    ///
+    /// An error (a message naming the attribute and the fix) refuses the attributes. The
+    /// default accepts custom inputs, which affect nothing (a rig's switches and dials that
+    /// other nodes read through connections), and refuses custom outputs, which nothing
+    /// would compute.
+    fn custom_affects(&self, custom: &[AttrSpec], first: AttrId) -> Result<CustomAffects, String> {
+        let _ = first;
+        match custom.iter().find(|a| !a.is_input()) {
+            Some(a) => Err(format!(
+                "custom attribute {} is an output, but node type {} computes no custom outputs; make it an input",
+                a.name,
+                self.spec().name
+            )),
+            None => Ok(CustomAffects::default()),
+        }
     }
 }
 
@@ -169,6 +193,13 @@ impl<'a> ComputeContext<'a> {
             group,
             time,
         }
+    }
+
+    /// The spec of the node being computed: its type's, followed by the node's custom
+    /// attributes ([`NodeSpec::custom_attrs`]), for node types that compute with them.
+    #[inline]
+    pub fn node_spec(&self) -> &'a NodeSpec {
+        self.spec()
     }
 
     /// The spec of the node being computed.

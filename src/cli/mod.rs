@@ -47,11 +47,14 @@ pub struct Cli {
 enum Command {
     /// List the registered node types and their attributes.
     Nodes {
-        /// Show only this node type.
+        /// Show only this node type (with --rig: this node of the rig, custom attributes included).
         node_type: Option<String>,
         /// Print JSON instead of text.
         #[arg(long)]
         json: bool,
+        /// List the attributes of a node of this rig (NODE_TYPE names the node).
+        #[arg(long, value_name = "RIG")]
+        rig: Option<PathBuf>,
     },
     /// Validate a rig: a one-line summary, or every error as file:line:col.
     Check {
@@ -296,7 +299,14 @@ fn view(_: &std::path::Path, _: &str, _: bool, _: &std::sync::Arc<sinew_core::Re
 fn execute(cli: Cli, out: &mut Output<'_>) -> Result<(), CliError> {
     let registry = crate::default_registry().map_err(|e| format!("internal error in a node plugin: {e}"))?;
     match cli.command {
-        Command::Nodes { node_type, json } => out.text(&nodes_cmd::render(&registry, node_type.as_deref(), json)?)?,
+        Command::Nodes { node_type, json, rig } => match rig {
+            Some(rig) => {
+                let node = node_type.ok_or("--rig needs a node name: sinew nodes NODE --rig RIG.ron")?;
+                let loaded = rig_cmds::load(&rig, &registry)?;
+                out.text(&nodes_cmd::render_node(&loaded.graph, &node, json)?)?
+            }
+            None => out.text(&nodes_cmd::render(&registry, node_type.as_deref(), json)?)?,
+        },
         Command::Check { rig, watch, max_runs } => {
             if watch {
                 rig_cmds::watch(&rig, &registry, max_runs, &mut out.reborrow().eager(true))?;

@@ -1,9 +1,10 @@
-//! `sinew nodes`: lists the registered node types and their attributes.
+//! `sinew nodes`: lists the registered node types and their attributes, or one node of a
+//! rig with its custom attributes (`--rig`).
 
 use std::fmt::Write as _;
 
 use serde_json::json;
-use sinew_core::{AttrSpec, Direction, NodeSpec, Registry};
+use sinew_core::{AttrSpec, Direction, Graph, NodeSpec, Registry};
 
 /// Human-readable listing of one node type.
 fn describe(spec: &NodeSpec, out: &mut String) {
@@ -22,6 +23,33 @@ fn describe(spec: &NodeSpec, out: &mut String) {
     }
 }
 
+/// The attributes of node `name` of a loaded rig: its type's, then its custom ones (marked
+/// `custom`), as text or JSON.
+pub fn render_node(graph: &Graph, name: &str, as_json: bool) -> Result<String, String> {
+    let id = graph.node_id(name).map_err(|e| e.to_string())?;
+    let spec = graph.node_spec(id).ok_or("stale node")?;
+    let custom = |a: &AttrSpec| spec.find(&a.name).is_some_and(|(id, _)| spec.is_custom(id));
+    if as_json {
+        let attrs: Vec<_> = spec
+            .attrs
+            .iter()
+            .map(|a| {
+                let mut v = attr_json(a);
+                v["custom"] = json!(custom(a));
+                v
+            })
+            .collect();
+        let v = json!({ "name": name, "type": spec.name, "attributes": attrs });
+        return serde_json::to_string_pretty(&v).map_err(|e| e.to_string());
+    }
+    let mut out = format!("{name} ({})\n", spec.name);
+    for a in &spec.attrs {
+        let mark = if custom(a) { "  [custom]" } else { "" };
+        let _ = writeln!(out, "    {}{mark}", attr_line(a));
+    }
+    Ok(out)
+}
+
 fn attr_line(a: &AttrSpec) -> String {
     let dir = match a.direction {
         Direction::Input => "in ",
@@ -37,6 +65,13 @@ fn attr_line(a: &AttrSpec) -> String {
     }
     if a.unit == sinew_core::Unit::Degrees {
         s.push_str(" (degrees)");
+    }
+    let limit = |x: Option<f64>| x.map_or(String::new(), |x| x.to_string());
+    if a.min.is_some() || a.max.is_some() {
+        s.push_str(&format!(" [{}, {}]", limit(a.min), limit(a.max)));
+    }
+    if a.soft_min.is_some() || a.soft_max.is_some() {
+        s.push_str(&format!(" soft [{}, {}]", limit(a.soft_min), limit(a.soft_max)));
     }
     if !a.doc.is_empty() {
         s.push_str(&format!("  // {}", a.doc));
@@ -57,6 +92,10 @@ fn attr_json(a: &AttrSpec) -> serde_json::Value {
         "childShortNames": a.child_short_names.as_ref().map(|c| c.to_vec()),
         "enum": if a.enum_names.is_empty() { None } else { Some(a.enum_names.clone()) },
         "unit": format!("{:?}", a.unit).to_lowercase(),
+        "min": a.min,
+        "max": a.max,
+        "softMin": a.soft_min,
+        "softMax": a.soft_max,
         "doc": a.doc,
     })
 }
