@@ -20,9 +20,9 @@
 mod assemble;
 mod build;
 mod canon;
-mod custom_decl;
 #[doc(hidden)]
 pub mod comment_check;
+mod custom_decl;
 pub mod diag;
 pub mod doc;
 mod doc_print;
@@ -39,9 +39,9 @@ pub mod typed;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
-mod tests_custom;
-#[cfg(test)]
 mod tests_comments;
+#[cfg(test)]
+mod tests_custom;
 #[cfg(test)]
 mod tests_errors;
 #[cfg(test)]
@@ -56,6 +56,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 pub use build::{load_rig, load_rig_str, load_rig_with, LoadedRig};
+pub use custom_decl::write_attrs;
 pub use diag::{Diagnostic, Diagnostics, Span};
 pub use doc::RigDocument;
 pub use export::{to_dot, to_json};
