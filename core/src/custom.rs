@@ -9,7 +9,7 @@
 //! registered type. Custom inputs affect nothing by default; they are plugs like any
 //! other (set, connected from and to, compiled into slots, resolved by handles). A node
 //! type whose compute reads or writes custom attributes (an expression node) opts in with
-//! [`NodeType::custom_affects`](crate::NodeType::custom_affects), which may also declare
+//! [`NodeType::custom_affects`], which may also declare
 //! custom *outputs*.
 
 use std::sync::Arc;
@@ -23,7 +23,7 @@ use crate::value::{AttrType, Value};
 use crate::ComputeError;
 
 /// What a node type's custom attributes affect (see
-/// [`NodeType::custom_affects`](crate::NodeType::custom_affects)).
+/// [`NodeType::custom_affects`]).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct CustomAffects {
     /// `(input, output)` pairs: the output is a custom output; the input is one of the

@@ -32,6 +32,21 @@ impl ComputeError {
     }
 }
 
+/// An authored input value that its node type refuses beyond its type (see
+/// [`NodeType::check_input`](crate::NodeType::check_input)): an expression
+/// with a syntax error, for instance. The rig loader reports it at the value's
+/// place in the file, inside the string when `offset` is given.
+#[derive(Clone, Debug, Error, PartialEq)]
+#[error("{message}")]
+pub struct InputError {
+    /// Byte offset of the problem inside a string value (`None`: the whole value).
+    pub offset: Option<usize>,
+    /// What is wrong.
+    pub message: String,
+    /// How to fix it.
+    pub hint: Option<String>,
+}
+
 fn hint(s: &Option<String>) -> String {
     match s {
         Some(x) => format!(" (did you mean {x:?}?)"),

@@ -36,8 +36,8 @@ pub mod value_file;
 
 pub use custom::{CustomAffects, CustomNode};
 pub use data::{Curve, CurveForm, Mesh, Weights};
-pub use error::{ComputeError, Error, Result, SpecError};
-pub use graph::{EvalStats, Graph, NodeId, Plug};
+pub use error::{ComputeError, Error, InputError, Result, SpecError};
+pub use graph::{EvalStats, Graph, NodeId, Plug, MAX_ELEMENT_INDEX};
 pub use kernel::{finite, KernelNode, ScalarKernel, ScalarOp, MAX_KERNEL_INPUTS};
 pub use mat_kernel::{MatrixFn, MatrixKernel};
 pub use node::{ComputeContext, KnownInputs, NodeType, Time};

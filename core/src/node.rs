@@ -9,7 +9,7 @@
 use std::sync::Arc;
 
 use crate::custom::CustomAffects;
-use crate::error::ComputeError;
+use crate::error::{ComputeError, InputError};
 use crate::graph::store::AttrStore;
 pub use crate::inactive::KnownInputs;
 use crate::kernel::ScalarKernel;
@@ -90,6 +90,16 @@ pub trait NodeType: Send + Sync + 'static {
             )),
             None => Ok(CustomAffects::default()),
         }
+    }
+
+    /// Checks a value authored for input `attr` in a rig file beyond its type (an
+    /// expression's syntax, say), so the loader reports a mistake at its place in the file
+    /// (`file:line:col`, inside a string when [`InputError::offset`] is given) instead of
+    /// at the first evaluation. `compute` must still cope with any value (values also
+    /// arrive through `set` and connections). The default accepts everything.
+    fn check_input(&self, attr: AttrId, value: &Value) -> Result<(), InputError> {
+        let _ = (attr, value);
+        Ok(())
     }
 }
 

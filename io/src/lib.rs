@@ -3,6 +3,7 @@
 //! importer and baker map these structs to and from graph nodes.
 
 pub mod bake;
+pub mod bake_morphs;
 pub mod bvh;
 mod gltf_binary;
 pub mod gltf_read;

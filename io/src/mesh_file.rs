@@ -14,7 +14,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use sinew_core::files::{read_text, DATA};
-use sinew_core::rig::{load_rig_with, normalize, FsSource, RigSource};
+use sinew_core::rig::{normalize, FsSource, LoadLimits, RigSource};
 use sinew_core::{AttrType, Diagnostics, LoadedRig, Mesh, Registry, Value};
 
 /// Whether `path` names a mesh file format [`load_mesh`] reads (by extension).
@@ -95,9 +95,18 @@ impl RigSource for MeshFileSource {
 /// Loads a rig file whose mesh attributes may reference files (`inMesh: File("body.obj")`,
 /// relative to the rig file). Same as [`sinew_core::load_rig`] otherwise.
 pub fn load_rig(path: &Path, registry: &Arc<Registry>) -> Result<LoadedRig, Diagnostics> {
+    load_rig_with_limits(path, registry, LoadLimits::default())
+}
+
+/// [`load_rig`] with chosen [`LoadLimits`] (the most nodes the rig may expand to).
+pub fn load_rig_with_limits(
+    path: &Path,
+    registry: &Arc<Registry>,
+    limits: LoadLimits,
+) -> Result<LoadedRig, Diagnostics> {
     let key = normalize(path);
     match MeshFileSource.read(&key) {
-        Ok(text) => load_rig_with(&text, &key, registry, &MeshFileSource),
+        Ok(text) => sinew_core::rig::load_rig_with_limits(&text, &key, registry, &MeshFileSource, limits),
         // Let the core loader produce its usual "cannot read rig file" diagnostic.
         Err(_) => sinew_core::load_rig(&key, registry),
     }

@@ -33,12 +33,17 @@ use clap::{Parser, Subcommand};
 pub use eval_cmd::{apply_overrides, eval, eval_to, parse_plug_value, EvalRequest, Format};
 pub use eval_format::Json;
 pub use frames::{parse_frames, resolve_timing, FrameRange, MAX_FRAME, MAX_FRAMES};
+pub use nodes_cmd::{markdown as nodes_markdown, MARKDOWN_COMMAND};
 pub use output::{CliError, Output};
 
 /// sinew: a Maya-style rig evaluator — check, evaluate and bake rigs written as RON text.
 #[derive(Debug, Parser)]
 #[command(name = "sinew", version, about, long_about = None)]
 pub struct Cli {
+    /// The most nodes a rig may expand to, components included (default 250000): a guard
+    /// against components that multiply without end.
+    #[arg(long, global = true, value_name = "N")]
+    max_nodes: Option<usize>,
     #[command(subcommand)]
     command: Command,
 }
@@ -55,6 +60,9 @@ enum Command {
         /// List the attributes of a node of this rig (NODE_TYPE names the node).
         #[arg(long, value_name = "RIG")]
         rig: Option<PathBuf>,
+        /// Print every node type as Markdown (what `docs/nodes.md` holds).
+        #[arg(long, conflicts_with_all = ["json", "node_type"])]
+        markdown: bool,
     },
     /// Validate a rig: a one-line summary, or every error as file:line:col.
     Check {
@@ -191,6 +199,10 @@ enum Command {
         /// The glTF file to write.
         #[arg(short, long)]
         output: PathBuf,
+        /// Bake meshes deformed by deformers glTF cannot express (cluster, nonLinear, ffd,
+        /// deltaMush, wire, wrap...) as one morph target per frame (else: a warning names what is lost).
+        #[arg(long)]
+        bake_deformers_as_morphs: bool,
     },
     /// Retarget a BVH take onto a rig's skeleton and bake the result to glTF.
     Retarget {
@@ -298,8 +310,14 @@ fn view(_: &std::path::Path, _: &str, _: bool, _: &std::sync::Arc<sinew_core::Re
 
 fn execute(cli: Cli, out: &mut Output<'_>) -> Result<(), CliError> {
     let registry = crate::default_registry().map_err(|e| format!("internal error in a node plugin: {e}"))?;
+    if let Some(max_nodes) = cli.max_nodes {
+        rig_cmds::set_load_limits(sinew_core::rig::LoadLimits { max_nodes });
+    }
     match cli.command {
-        Command::Nodes { node_type, json, rig } => match rig {
+        Command::Nodes { markdown: true, .. } => out.text(&nodes_cmd::markdown(&registry))?,
+        Command::Nodes {
+            node_type, json, rig, ..
+        } => match rig {
             Some(rig) => {
                 let node = node_type.ok_or("--rig needs a node name: sinew nodes NODE --rig RIG.ron")?;
                 let loaded = rig_cmds::load(&rig, &registry)?;
@@ -395,12 +413,14 @@ fn execute(cli: Cli, out: &mut Output<'_>) -> Result<(), CliError> {
             fps,
             tolerance,
             output,
+            bake_deformers_as_morphs,
         } => out.text(&bake_cmd::bake_cmd(
             &rig,
             frames.as_deref(),
             fps,
             tolerance,
             &output,
+            bake_deformers_as_morphs,
             &registry,
         )?)?,
         Command::Retarget {

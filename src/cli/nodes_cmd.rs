@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 
 use serde_json::json;
-use sinew_core::{AttrSpec, Direction, Graph, NodeSpec, Registry};
+use sinew_core::{AttrSpec, AttrType, Direction, Graph, NodeSpec, Registry, Unit, Value};
 
 /// Human-readable listing of one node type.
 fn describe(spec: &NodeSpec, out: &mut String) {
@@ -128,4 +128,108 @@ pub fn render(registry: &Registry, only: Option<&str>, as_json: bool) -> Result<
         describe(s, &mut out);
     }
     Ok(out)
+}
+
+/// The command that regenerates `docs/nodes.md` (named in its header and in the
+/// test that fails when the file is stale).
+pub const MARKDOWN_COMMAND: &str = "cargo run -- nodes --markdown > docs/nodes.md";
+
+/// Every node type of `registry` as Markdown, in name order: per type its doc
+/// line and a table of attributes (direction, type, unit, default, children or
+/// enum choices, doc). `docs/nodes.md` is this text.
+pub fn markdown(registry: &Registry) -> String {
+    let mut out = String::new();
+    let _ = writeln!(out, "# Node types\n");
+    let _ = writeln!(
+        out,
+        "Generated from the registered node specs by `sinew nodes --markdown`; do not edit by hand. \
+         A test fails when this file is stale: regenerate it with `{MARKDOWN_COMMAND}`.\n"
+    );
+    let _ = writeln!(
+        out,
+        "{} node types. Angles are degrees; `[]` marks a multi (array) attribute, `name[i]` in rig files; \
+         Maya's short names are in parentheses.\n",
+        registry.len()
+    );
+    for spec in registry.specs() {
+        let _ = writeln!(out, "## `{}`\n", spec.name);
+        if !spec.doc.is_empty() {
+            let _ = writeln!(out, "{}\n", md_escape(&spec.doc));
+        }
+        if spec.time_dependent {
+            let _ = writeln!(out, "Reads the time.\n");
+        }
+        let _ = writeln!(
+            out,
+            "| attribute | dir | type | unit | default | children / choices | doc |"
+        );
+        let _ = writeln!(out, "|---|---|---|---|---|---|---|");
+        for a in &spec.attrs {
+            let _ = writeln!(out, "{}", md_attr_row(a));
+        }
+        out.push('\n');
+    }
+    out
+}
+
+fn md_attr_row(a: &AttrSpec) -> String {
+    let dir = match a.direction {
+        Direction::Input => "in",
+        Direction::Output => "out",
+    };
+    let short = a.short_name.as_ref().map(|s| format!(" (`{s}`)")).unwrap_or_default();
+    let name = format!("`{}{}`{short}", a.name, if a.multi { "[]" } else { "" });
+    let unit = match a.unit {
+        Unit::None => "",
+        Unit::Degrees => "degrees",
+        Unit::Distance => "distance",
+        Unit::Frames => "frames",
+    };
+    let default = if let (Value::Enum(i), false) = (&a.default, a.enum_names.is_empty()) {
+        let name = usize::try_from(*i).ok().and_then(|i| a.enum_names.get(i));
+        name.map_or_else(|| i.to_string(), |n| format!("`{n}`"))
+    } else if a.direction == Direction::Input || !a.ty.is_heavy() {
+        md_value(&a.default)
+    } else {
+        String::new()
+    };
+    let extra = if !a.enum_names.is_empty() {
+        a.enum_names
+            .iter()
+            .enumerate()
+            .map(|(i, n)| format!("{i} `{n}`"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    } else if let Some(c) = &a.children {
+        let shorts = a.child_short_names.as_ref();
+        c.iter()
+            .enumerate()
+            .map(|(k, n)| match shorts {
+                Some(s) => format!("`{n}` (`{}`)", s[k]),
+                None => format!("`{n}`"),
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
+    } else {
+        String::new()
+    };
+    format!(
+        "| {name} | {dir} | {} | {unit} | {default} | {extra} | {} |",
+        a.ty,
+        md_escape(&a.doc)
+    )
+}
+
+/// A default as short text: matrices that are the identity say so.
+fn md_value(v: &Value) -> String {
+    match v {
+        Value::Matrix(m) if *m == glam::DMat4::IDENTITY => "identity".to_string(),
+        Value::Quat(q) if *q == glam::DQuat::IDENTITY => "identity".to_string(),
+        v if v.attr_type() == AttrType::Object => String::new(),
+        v => md_escape(&v.to_string()),
+    }
+}
+
+fn md_escape(s: &str) -> String {
+    s.replace('|', "\\|")
 }

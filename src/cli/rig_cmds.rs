@@ -9,12 +9,23 @@ use sinew_core::rig::{rig_dependencies, to_dot, to_json, LoadedRig};
 use sinew_core::Registry;
 
 use super::output::{CliError, Output};
-use crate::io::mesh_file::{format_rig_file, load_rig};
+use crate::io::mesh_file::load_rig_with_limits;
+use sinew_core::rig::LoadLimits;
 
-/// Loads a rig (with mesh `File(..)` references resolved) or returns its
-/// rendered diagnostics as the error.
+/// The load limits of this process's commands: set once from `--max-nodes` (see
+/// [`set_load_limits`]), the defaults otherwise.
+static LIMITS: std::sync::OnceLock<LoadLimits> = std::sync::OnceLock::new();
+
+/// Sets the limits every later [`load`] uses (the first call wins).
+pub fn set_load_limits(limits: LoadLimits) {
+    let _ = LIMITS.set(limits);
+}
+
+/// Loads a rig (with mesh `File(..)` references resolved, within the `--max-nodes` limit)
+/// or returns its rendered diagnostics as the error. Every command loads rigs with this.
 pub fn load(path: &Path, registry: &Arc<Registry>) -> Result<LoadedRig, String> {
-    load_rig(path, registry).map_err(|d| d.render().trim_end().to_string())
+    let limits = LIMITS.get().copied().unwrap_or_default();
+    load_rig_with_limits(path, registry, limits).map_err(|d| d.render().trim_end().to_string())
 }
 
 /// The one-line summary `sinew check` prints for a valid rig.
@@ -74,7 +85,8 @@ pub fn fmt(paths: &[PathBuf], check_only: bool, registry: &Arc<Registry>) -> Res
     let mut report = Vec::new();
     let mut bad = Vec::new();
     for p in paths {
-        let formatted = format_rig_file(p, registry).map_err(|d| d.render().trim_end().to_string())?;
+        let rig = load(p, registry)?;
+        let formatted = sinew_core::rig::save_rig(&rig.graph, &rig.document);
         let current = sinew_core::files::read_text(p, sinew_core::files::RIG_TEXT)
             .map_err(|e| format!("{}: cannot read: {e}", p.display()))?;
         if current == formatted {

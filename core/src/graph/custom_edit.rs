@@ -44,12 +44,16 @@ impl Graph {
         custom.push(attr.clone());
         let kind = node_type_with(&data.base, &custom).map_err(|e| bad(e.message))?;
         let id = AttrId((kind.spec().attrs.len() - 1) as u16);
+        // Placed last in the topological order (`order.rs`): it has no edges yet; the
+        // internal edges of custom groups are ordered by `custom_cycle` below.
+        self.next_ord += 1;
         let store = AttrStore {
             elems: if attr.multi {
                 Vec::new()
             } else {
                 vec![Elem::new(0, attr.default.clone())]
             },
+            ord: self.next_ord,
         };
         let old_kind = std::mem::replace(&mut self.nodes[node].kind, kind);
         self.nodes[node].attrs.push(store);
@@ -148,19 +152,26 @@ impl Graph {
 
     /// A plug cycle through one of `node`'s custom dependencies (input → custom output),
     /// as attribute paths, if there is one.
-    fn custom_cycle(&self, node: NodeId) -> Option<Vec<String>> {
+    fn custom_cycle(&mut self, node: NodeId) -> Option<Vec<String>> {
         let n = self.nodes.get(node)?;
         let spec = n.kind.spec();
         let first = n.base.spec().groups().len();
-        for g in &spec.groups()[first..] {
-            for &o in &g.outputs {
-                for &i in &g.inputs {
-                    if let Some(path) = self.dependency_path((node, o), (node, i)) {
-                        let mut names: Vec<String> = path.iter().map(|&(n, a)| self.attr_path(n, a)).collect();
-                        names.push(self.attr_path(node, o));
-                        return Some(names);
-                    }
-                }
+        let edges: Vec<(AttrId, AttrId)> = spec.groups()[first..]
+            .iter()
+            .flat_map(|g| {
+                g.outputs
+                    .iter()
+                    .flat_map(move |&o| g.inputs.iter().map(move |&i| (i, o)))
+            })
+            .collect();
+        for (i, o) in edges {
+            // Orders the edge i -> o forward, or gives the path o -> .. -> i it would close.
+            // A refused edge leaves a valid order (without it), so an earlier success
+            // needs no undoing.
+            if let Err(path) = self.order_for_edge((node, i), (node, o)) {
+                let mut names: Vec<String> = path.iter().map(|&(n, a)| self.attr_path(n, a)).collect();
+                names.push(self.attr_path(node, o));
+                return Some(names);
             }
         }
         None

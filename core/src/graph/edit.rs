@@ -44,6 +44,7 @@ impl Graph {
                 } else {
                     vec![Elem::new(0, a.default.clone())]
                 },
+                ord: 0,
             })
             .collect();
         let groups = vec![GroupState::default(); spec.groups().len()];
@@ -60,6 +61,7 @@ impl Graph {
         };
         let id = self.nodes.insert(data);
         self.names.insert(name.to_string(), id);
+        self.place_new_node(id);
         self.bump();
         Ok(id)
     }
@@ -201,7 +203,7 @@ impl Graph {
             e.value = new;
             e.changed_at = rev;
         }
-        self.push_dirty(plug.node, plug.attr);
+        self.push_dirty_plug(plug);
         Ok(())
     }
 
@@ -221,6 +223,47 @@ impl Graph {
             Some(k) => e.value.component(k).map(Value::Float),
             None => Some(e.value.clone()),
         }
+    }
+
+    /// Creates the missing elements `indices` of a multi attribute with the attribute's
+    /// default value, in one sorted merge: linear in the elements whatever order `indices`
+    /// come in (creating them one by one in descending order would move every later
+    /// element each time). The loader calls it before setting and connecting a file's
+    /// elements. Indices above [`super::MAX_ELEMENT_INDEX`] and non-multi attributes are
+    /// ignored (setting or connecting them reports the error).
+    pub(crate) fn reserve_elements(&mut self, node: NodeId, attr: crate::spec::AttrId, mut indices: Vec<u32>) {
+        let Some(data) = self.nodes.get_mut(node) else { return };
+        let kind = data.kind.clone();
+        let spec = kind.spec();
+        let Some(a) = spec.attrs.get(attr.index()).filter(|a| a.multi) else {
+            return;
+        };
+        indices.retain(|&i| i <= super::MAX_ELEMENT_INDEX);
+        indices.sort_unstable();
+        indices.dedup();
+        let store = &mut data.attrs[attr.index()];
+        indices.retain(|&i| store.find(i).is_none());
+        if indices.is_empty() {
+            return;
+        }
+        let old = std::mem::take(&mut store.elems);
+        let mut merged = Vec::with_capacity(old.len() + indices.len());
+        let mut new = indices.into_iter().peekable();
+        for e in old {
+            while let Some(i) = new.next_if(|&i| i < e.index) {
+                merged.push(Elem::new(i, a.default.clone()));
+            }
+            merged.push(e);
+        }
+        merged.extend(new.map(|i| Elem::new(i, a.default.clone())));
+        store.elems = merged;
+        // A new output element is filled by its group's next compute.
+        if let Some(g) = spec.group_of(attr) {
+            let gs = &mut data.groups[g as usize];
+            gs.force = true;
+            gs.dirty = true;
+        }
+        self.bump();
     }
 
     /// Removes element `index` of a multi input (disconnecting it first).

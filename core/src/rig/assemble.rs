@@ -79,6 +79,40 @@ fn resolve(graph: &Graph, path: &str, span: &Span, quiet: &mut Quiet<'_>, diags:
 
 type EdgeKey = (NodeId, AttrId, NodeId, AttrId);
 
+/// `nodes` in reverse depth-first postorder of the `edges` among them: an order where
+/// every edge goes forward when the node-level graph is acyclic (node-level loops are
+/// allowed; they leave some edges backward). Linear in nodes and edges.
+fn node_order(nodes: &[NodeId], edges: impl Iterator<Item = (NodeId, NodeId)>) -> Vec<NodeId> {
+    let index: HashMap<NodeId, usize> = nodes.iter().enumerate().map(|(k, &n)| (n, k)).collect();
+    let mut succ: Vec<Vec<usize>> = vec![Vec::new(); nodes.len()];
+    for (a, b) in edges {
+        if let (Some(&a), Some(&b)) = (index.get(&a), index.get(&b)) {
+            succ[a].push(b);
+        }
+    }
+    let mut visited = vec![false; nodes.len()];
+    let mut post = Vec::with_capacity(nodes.len());
+    let mut stack: Vec<(usize, usize)> = Vec::new();
+    for root in 0..nodes.len() {
+        if std::mem::replace(&mut visited[root], true) {
+            continue;
+        }
+        stack.push((root, 0));
+        while let Some((v, k)) = stack.pop() {
+            if let Some(&w) = succ[v].get(k) {
+                stack.push((v, k + 1));
+                if !std::mem::replace(&mut visited[w], true) {
+                    stack.push((w, 0));
+                }
+            } else {
+                post.push(nodes[v]);
+            }
+        }
+    }
+    post.reverse();
+    post
+}
+
 pub(super) fn build_graph(flat: &Flat, registry: &Arc<Registry>, diags: &mut Diagnostics, hidden: &mut usize) -> Graph {
     let mut g = Graph::new(registry.clone());
     let mut first: HashMap<&str, &FlatNode> = HashMap::new();
@@ -125,6 +159,49 @@ pub(super) fn build_graph(flat: &Flat, registry: &Arc<Registry>, diags: &mut Dia
             }
         }
     }
+    // Connections are resolved by name once all nodes exist.
+    let resolved: Vec<(Option<Plug>, Option<Plug>)> = flat
+        .conns
+        .iter()
+        .map(|c| {
+            (
+                resolve(&g, &c.src, &c.src_span, &mut quiet, diags),
+                resolve(&g, &c.dst, &c.dst_span, &mut quiet, diags),
+            )
+        })
+        .collect();
+    // The elements of multi attributes the file writes or connects, created in one merge
+    // per attribute (in whatever order the file lists them).
+    let mut elements: HashMap<(NodeId, AttrId), Vec<u32>> = HashMap::new();
+    for (n, id) in flat.nodes.iter().zip(&ids) {
+        let Some(id) = *id else { continue };
+        for v in &n.values {
+            if let Some(i) = v.index {
+                elements.entry((id, v.attr)).or_default().push(i);
+            }
+        }
+    }
+    for p in resolved.iter().flat_map(|(s, d)| [s, d]).flatten() {
+        if let Some(i) = p.index {
+            elements.entry((p.node, p.attr)).or_default().push(i);
+        }
+    }
+    for ((node, attr), indices) in elements {
+        g.reserve_elements(node, attr, indices);
+    }
+    // Positions in the topological order by the node-level graph of parents and
+    // connections, so that parenting and connecting mostly go forward in it and cost
+    // nothing, whatever order the file lists its nodes in.
+    let parent_edges = flat.nodes.iter().zip(&ids).filter_map(|(n, id)| {
+        let (child, (p, _)) = ((*id)?, n.parent.as_ref()?);
+        Some((g.find_node(p)?, child))
+    });
+    let conn_edges = resolved
+        .iter()
+        .filter_map(|(s, d)| Some((s.as_ref()?.node, d.as_ref()?.node)));
+    let created: Vec<NodeId> = ids.iter().flatten().copied().collect();
+    let order = node_order(&created, parent_edges.chain(conn_edges));
+    g.renumber_unconnected(&order);
     for (n, id) in flat.nodes.iter().zip(&ids) {
         let Some(id) = *id else { continue };
         for v in &n.values {
@@ -178,9 +255,7 @@ pub(super) fn build_graph(flat: &Flat, registry: &Arc<Registry>, diags: &mut Dia
             ),
         }
     }
-    for c in &flat.conns {
-        let s = resolve(&g, &c.src, &c.src_span, &mut quiet, diags);
-        let d = resolve(&g, &c.dst, &c.dst_span, &mut quiet, diags);
+    for (c, &(s, d)) in flat.conns.iter().zip(&resolved) {
         let (Some(s), Some(d)) = (s, d) else { continue };
         let text = format!("{} -> {}", g.plug_name(s), g.plug_name(d));
         match g.connect(s, d) {

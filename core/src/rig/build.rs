@@ -20,7 +20,7 @@ use super::source::{normalize, FsSource, RigSource};
 use super::typed::{example, read_value};
 use crate::custom::CustomNode;
 use crate::error::nearest;
-use crate::graph::Graph;
+use crate::graph::{Graph, MAX_ELEMENT_INDEX};
 use crate::node::{NodeType, Time};
 use crate::path::{parse_plug_path, resolve_attr, AttrLookupError};
 use crate::registry::Registry;
@@ -76,6 +76,9 @@ pub(super) struct FlatNode {
     pub(super) kind: Option<Arc<dyn NodeType>>,
     pub(super) parent: Option<(String, Span)>,
     pub(super) values: Vec<FlatVal>,
+    /// Position in `values` of each (attribute, element) written, so merging the
+    /// elements of a large multi one by one is linear.
+    pub(super) value_index: HashMap<(AttrId, Option<u32>), usize>,
     pub(super) via: Option<Span>,
     /// Custom attributes (`attrs: {..}`), each with its position; `kind` already has them.
     pub(super) custom: Vec<(AttrSpec, Span)>,
@@ -113,9 +116,38 @@ struct FileDoc {
     doc: RigDocument,
 }
 
+/// The default of [`LoadLimits::max_nodes`]: 250,000 nodes (a joint takes about 10 KB in
+/// the graph, so 2.5 GB).
+pub const DEFAULT_MAX_NODES: usize = 250_000;
+
+/// Limits on what loading a rig may build, so a small file cannot make the loader work
+/// without end (a component that uses another twice, nested 24 deep, is 2^24 nodes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LoadLimits {
+    /// The most nodes a rig may expand to: its own plus those of every component instance
+    /// (default [`DEFAULT_MAX_NODES`]). Past it, loading stops with an error naming the
+    /// chain of `Use`s being expanded (`sinew --max-nodes N` raises it).
+    pub max_nodes: usize,
+}
+
+impl Default for LoadLimits {
+    fn default() -> Self {
+        LoadLimits {
+            max_nodes: DEFAULT_MAX_NODES,
+        }
+    }
+}
+
 struct Expander<'a> {
     registry: &'a Registry,
     source: &'a dyn RigSource,
+    limits: LoadLimits,
+    /// Nodes created so far by the expansion (every instance counts).
+    created: usize,
+    /// The node limit was passed: expansion stops.
+    over_limit: bool,
+    /// The root rig's path and text (given to the loader, not read through `source`).
+    root: (Arc<Path>, &'a str),
     diags: Diagnostics,
     /// Files read: the document, or the index of the error that reading it gave.
     files: HashMap<PathBuf, Result<Rc<FileDoc>, usize>>,
@@ -221,16 +253,16 @@ impl<'a> Expander<'a> {
     /// Merges one authored value into a flat node (component writes update the whole value).
     fn put(node: &mut FlatNode, attr: AttrId, index: Option<u32>, comp: Option<u8>, value: Value, span: Span) {
         let Some(spec) = Self::spec_of(&node.kind) else { return };
-        let default = spec.attr(attr).default.clone();
-        let k = match node.values.iter().position(|v| v.attr == attr && v.index == index) {
-            Some(k) => k,
+        let k = match node.value_index.get(&(attr, index)) {
+            Some(&k) => k,
             None => {
                 node.values.push(FlatVal {
                     attr,
                     index,
-                    value: default,
+                    value: spec.attr(attr).default.clone(),
                     span: span.clone(),
                 });
+                node.value_index.insert((attr, index), node.values.len() - 1);
                 node.values.len() - 1
             }
         };
@@ -280,12 +312,42 @@ impl<'a> Expander<'a> {
         }
         if a.multi {
             let entries: Vec<(u32, &Node)> = match &value.kind {
-                super::parse::Ast::List(items) => items.iter().enumerate().map(|(i, n)| (i as u32, n)).collect(),
+                super::parse::Ast::List(items) => {
+                    if let Some(n) = items.get(MAX_ELEMENT_INDEX as usize + 1) {
+                        self.diags.push(
+                            Diagnostic::new(
+                                n.span.clone(),
+                                format!(
+                                    "{what}: more than {} elements; element indices are at most {MAX_ELEMENT_INDEX}",
+                                    MAX_ELEMENT_INDEX as u64 + 1
+                                ),
+                            )
+                            .hint("a multi attribute holds at most 2^20 elements; use an array attribute for more"),
+                        );
+                    }
+                    items
+                        .iter()
+                        .take(MAX_ELEMENT_INDEX as usize + 1)
+                        .enumerate()
+                        .map(|(i, n)| (i as u32, n))
+                        .collect()
+                }
                 super::parse::Ast::Map(items) => {
                     let mut v = Vec::new();
                     for (k, n) in items {
                         match k.kind {
-                            super::parse::Ast::Int(i) if (0..=u32::MAX as i64).contains(&i) => v.push((i as u32, n)),
+                            super::parse::Ast::Int(i) if (0..=MAX_ELEMENT_INDEX as i64).contains(&i) => {
+                                v.push((i as u32, n))
+                            }
+                            super::parse::Ast::Int(i) if i > 0 => self.diags.push(
+                                Diagnostic::new(
+                                    k.span.clone(),
+                                    format!(
+                                        "{what}: element index {i} is above the limit of {MAX_ELEMENT_INDEX} (2^20 - 1)"
+                                    ),
+                                )
+                                .hint("number the elements from 0; nodes size arrays by the largest index"),
+                            ),
                             _ => self.diags.push(
                                 Diagnostic::new(
                                     k.span.clone(),
@@ -328,7 +390,19 @@ impl<'a> Expander<'a> {
             return;
         }
         match self.read_attr_value(value, a.ty, Some(&a), &what) {
-            Ok(v) => Self::put(node, attr, None, None, v, value.span.clone()),
+            Ok(v) => match node.kind.as_ref().map(|k| k.check_input(attr, &v)) {
+                Some(Err(e)) => {
+                    let span = e
+                        .offset
+                        .map_or(value.span.clone(), |off| self.span_in_string(value, off));
+                    let mut d = Diagnostic::new(span, format!("{what}: {}", e.message));
+                    if let Some(h) = e.hint {
+                        d = d.hint(h);
+                    }
+                    self.diags.push(d);
+                }
+                _ => Self::put(node, attr, None, None, v, value.span.clone()),
+            },
             Err(d) => self.diags.push(d),
         }
     }
@@ -357,6 +431,93 @@ impl<'a> Expander<'a> {
         node.custom = ok;
     }
 
+    /// The file position of byte `offset` of the string value written at `lit` (a `".."`
+    /// or raw `r#".."#` literal): the file is read again and the literal walked, escapes
+    /// included. Falls back to the literal's own position when the text cannot be read.
+    fn span_in_string(&self, lit: &Node, offset: usize) -> Span {
+        let fallback = lit.span.clone();
+        let text = if lit.span.file == self.root.0 {
+            self.root.1.to_string()
+        } else {
+            match self.source.read(&lit.span.file) {
+                Ok(t) => t,
+                Err(_) => return fallback,
+            }
+        };
+        let target = lit.span.line.saturating_sub(1) as usize;
+        let mut line_start = 0;
+        let mut this_line = None;
+        for (i, l) in text.split_inclusive('\n').enumerate() {
+            if i == target {
+                this_line = Some(l);
+                break;
+            }
+            line_start += l.len();
+        }
+        let Some((col_off, _)) = this_line.and_then(|l| l.char_indices().nth(lit.span.col.saturating_sub(1) as usize))
+        else {
+            return fallback;
+        };
+        let mut src = text[line_start + col_off..].chars().peekable();
+        let (mut line, mut col) = (lit.span.line, lit.span.col);
+        let step = |c: char, line: &mut u32, col: &mut u32| {
+            if c == '\n' {
+                *line += 1;
+                *col = 1;
+            } else {
+                *col += 1;
+            }
+        };
+        // The opening delimiter: `"` or `r`, `#`s, `"`.
+        let raw = src.peek() == Some(&'r');
+        for c in src.by_ref() {
+            step(c, &mut line, &mut col);
+            if c == '"' {
+                break;
+            }
+        }
+        let mut produced = 0usize;
+        while produced < offset {
+            let (line0, col0) = (line, col);
+            let Some(c) = src.next() else { return fallback };
+            step(c, &mut line, &mut col);
+            if c == '\\' && !raw {
+                // An escape: `\u{..}` or one character stand for one character of the value.
+                let Some(e) = src.next() else { return fallback };
+                step(e, &mut line, &mut col);
+                let ch = if e == 'u' {
+                    let mut hex = String::new();
+                    for h in src.by_ref() {
+                        step(h, &mut line, &mut col);
+                        if h == '}' {
+                            break;
+                        }
+                        if h != '{' {
+                            hex.push(h);
+                        }
+                    }
+                    u32::from_str_radix(&hex, 16)
+                        .ok()
+                        .and_then(char::from_u32)
+                        .unwrap_or('?')
+                } else {
+                    e
+                };
+                produced += ch.len_utf8();
+            } else {
+                produced += c.len_utf8();
+            }
+            if produced > offset {
+                return Span {
+                    line: line0,
+                    col: col0,
+                    ..fallback
+                };
+            }
+        }
+        Span { line, col, ..fallback }
+    }
+
     fn flat_node(&mut self, n: &NodeDecl) -> FlatNode {
         let kind = self.registry.get(&n.type_name).cloned();
         if kind.is_none() {
@@ -374,6 +535,7 @@ impl<'a> Expander<'a> {
             kind,
             parent: n.parent.clone(),
             values: Vec::new(),
+            value_index: HashMap::new(),
             via: None,
             custom: Vec::new(),
         };
@@ -446,6 +608,16 @@ impl<'a> Expander<'a> {
                 );
                 continue;
             }
+            if let Some(i) = parts.index.filter(|&i| i > MAX_ELEMENT_INDEX) {
+                self.diags.push(
+                    Diagnostic::new(
+                        attr_span,
+                        format!("element index {i} is above the limit of {MAX_ELEMENT_INDEX} (2^20 - 1)"),
+                    )
+                    .hint("number the elements from 0; nodes size arrays by the largest index"),
+                );
+                continue;
+            }
             if a.multi != parts.index.is_some() {
                 let m = if a.multi {
                     format!(
@@ -476,6 +648,9 @@ impl<'a> Expander<'a> {
     ) -> Flat {
         let mut flat = Flat::default();
         for u in &body.uses {
+            if self.over_limit {
+                return flat;
+            }
             let sub = self.expand_use(u, scope, stack);
             flat.absorb(&sub);
             if u.broken {
@@ -502,6 +677,11 @@ impl<'a> Expander<'a> {
             flat.conns.extend(sub.conns);
         }
         for n in &body.nodes {
+            self.created += 1;
+            if self.created > self.limits.max_nodes {
+                self.too_many_nodes(stack);
+                return flat;
+            }
             let fnode = self.flat_node(n);
             flat.nodes.push(fnode);
         }
@@ -515,7 +695,37 @@ impl<'a> Expander<'a> {
         flat
     }
 
+    /// Reports that the expansion passed [`LoadLimits::max_nodes`], naming the chain of
+    /// `Use`s being expanded, and stops the expansion.
+    fn too_many_nodes(&mut self, stack: &[(String, Span)]) {
+        self.over_limit = true;
+        let chain: Vec<&str> = stack.iter().map(|(l, _)| l.as_str()).collect();
+        let at = stack.last().map(|(_, s)| s.clone()).unwrap_or_else(|| {
+            let p: Arc<Path> = Arc::from(Path::new(""));
+            Span::new(&p, 1, 1)
+        });
+        let mut d = Diagnostic::new(
+            at,
+            format!(
+                "the rig expands to more than {} nodes (the limit) while expanding {}",
+                self.limits.max_nodes,
+                chain.join(" -> ")
+            ),
+        )
+        .hint(
+            "each Use copies every node of its component, and nested Uses multiply; check that no component \
+             is used more often than meant, or raise the limit (sinew --max-nodes N, LoadLimits::max_nodes)",
+        );
+        for (l, s) in stack.iter().skip(1) {
+            d = d.note(s.clone(), format!("{l} is used here"));
+        }
+        self.diags.push(d);
+    }
+
     fn expand_use(&mut self, u: &UseDecl, scope: &Rc<FileDoc>, stack: &mut Vec<(String, Span)>) -> Flat {
+        if self.over_limit {
+            return Flat::default();
+        }
         let target_scope = match &u.file {
             Some((f, fspan)) => {
                 let dir = scope.path.parent().unwrap_or(Path::new(""));
@@ -726,11 +936,26 @@ pub fn load_rig_with(
     registry: &Arc<Registry>,
     source: &dyn RigSource,
 ) -> Result<LoadedRig, Diagnostics> {
+    load_rig_with_limits(text, virtual_path, registry, source, LoadLimits::default())
+}
+
+/// [`load_rig_with`] with chosen [`LoadLimits`].
+pub fn load_rig_with_limits(
+    text: &str,
+    virtual_path: &Path,
+    registry: &Arc<Registry>,
+    source: &dyn RigSource,
+    limits: LoadLimits,
+) -> Result<LoadedRig, Diagnostics> {
     let key = normalize(virtual_path);
     let fpath: Arc<Path> = Arc::from(key.as_path());
     let mut exp = Expander {
         registry,
         source,
+        limits,
+        created: 0,
+        over_limit: false,
+        root: (fpath.clone(), text),
         diags: Diagnostics::default(),
         files: HashMap::new(),
         hidden: 0,
@@ -749,6 +974,10 @@ pub fn load_rig_with(
     let body = scope.doc.body.clone();
     let flat = exp.expand_body(&body, &scope, &mut stack, Some(&mut records));
     let mut diags = std::mem::take(&mut exp.diags);
+    if exp.over_limit {
+        diags.finish();
+        return Err(diags);
+    }
     let mut hidden = exp.hidden;
     let graph = super::assemble::build_graph(&flat, registry, &mut diags, &mut hidden);
     if let Some(cause) = flat.opaque.filter(|_| hidden > 0) {

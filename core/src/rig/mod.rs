@@ -47,6 +47,8 @@ mod tests_errors;
 #[cfg(test)]
 mod tests_fuzz;
 #[cfg(test)]
+mod tests_limits;
+#[cfg(test)]
 mod tests_names;
 #[cfg(test)]
 mod tests_ron;
@@ -55,7 +57,9 @@ use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-pub use build::{load_rig, load_rig_str, load_rig_with, LoadedRig};
+pub use build::{
+    load_rig, load_rig_str, load_rig_with, load_rig_with_limits, LoadLimits, LoadedRig, DEFAULT_MAX_NODES,
+};
 pub use custom_decl::write_attrs;
 pub use diag::{Diagnostic, Diagnostics, Span};
 pub use doc::RigDocument;

@@ -4,6 +4,7 @@
 
 use std::path::PathBuf;
 
+mod bake_morphs;
 mod bvh;
 mod gltf_read;
 mod gltf_write;

@@ -152,6 +152,7 @@ fn every_scene_bakes_to_validator_clean_gltf() {
             fps: imp.rig.fps,
             tolerance: 0.0,
             name: s.into(),
+            deformers_as_morphs: false,
         };
         let (scene, warnings) = crate::bake::bake(&mut g, &opts).unwrap_or_else(|e| panic!("{s}: {e}"));
         eprintln!(
