@@ -7,7 +7,7 @@
 //! | `-at double/float/doubleLinear/floatLinear/doubleAngle/floatAngle/time` | `float` |
 //! | `-at long/short/byte/char` | `int` |
 //! | `-at bool` | `bool` |
-//! | `-at enum -en "a:b:c"` | `enum` (names by index; explicit `name=N` values are reported when they are not 0, 1, 2...) |
+//! | `-at enum -en "a:b:c"` | `enum` (names by index; explicit `name=N` values are reported when they are not 0, 1, 2...); one that drives other plugs is a `float` holding the index (sinew connects enums only to enums and ints), its names in the doc |
 //! | `-at double3/float3` with three `-p` children | `vec3` with the children's names |
 //! | `-dt string`, `-dt/-at matrix`, `-dt doubleArray` | `string`, `matrix`, `floatArray` |
 //! | `-m` | a multi (for float, int, bool, enum, vec3, matrix) |
@@ -27,7 +27,7 @@ use crate::maya::scene::AddAttr;
 const LEFT_OUT: &[&str] = &["lockInfluenceWeights", "attributeAliasList"];
 
 /// The custom attribute for one `addAttr` (and its children, for a vec3), or why not.
-fn spec_for(a: &AddAttr, children: &[&AddAttr]) -> Result<Option<AttrSpec>, String> {
+fn spec_for(a: &AddAttr, children: &[&AddAttr], drives_plugs: bool) -> Result<Option<AttrSpec>, String> {
     let at = a.at.as_deref().or(a.dt.as_deref()).unwrap_or("double");
     let num = a.default.unwrap_or(0.0);
     let mut spec = match at {
@@ -38,6 +38,13 @@ fn spec_for(a: &AddAttr, children: &[&AddAttr]) -> Result<Option<AttrSpec>, Stri
             AttrSpec::custom(&a.long, Value::Int(num as i64)).with_range(a.min.map(f64::round), a.max.map(f64::round))
         }
         "bool" => AttrSpec::custom(&a.long, Value::Bool(num != 0.0)),
+        "enum" if drives_plugs => {
+            // sinew connects an enum only to enums and ints; Maya's enum attributes drive
+            // plain numbers (a condition's firstTerm), so one that drives plugs is a float
+            // holding the index, its names kept in the doc.
+            let names = a.enum_names.clone().unwrap_or_default().replace(':', ", ");
+            AttrSpec::custom(&a.long, Value::Float(num)).with_doc(&format!("enum (index): {names}"))
+        }
         "enum" => {
             let text = a.enum_names.clone().unwrap_or_default();
             let mut names = Vec::new();
@@ -85,7 +92,7 @@ fn spec_for(a: &AddAttr, children: &[&AddAttr]) -> Result<Option<AttrSpec>, Stri
         spec = spec.with_short_name(&a.short);
     }
     spec = spec.with_keyable(a.keyable).with_multi(a.multi);
-    if let Some(n) = &a.nice {
+    if let (Some(n), true) = (&a.nice, spec.doc.is_empty()) {
         spec = spec.with_doc(n);
     }
     Ok(Some(spec))
@@ -125,7 +132,14 @@ pub fn declare(imp: &mut Importer, i: usize, k: usize) {
             .iter()
             .filter(|c| c.parent.as_deref().is_some_and(|p| p == a.long || p == a.short))
             .collect();
-        match spec_for(a, &children) {
+        let drives = imp.conns_from(i).into_iter().any(|c| {
+            imp.scene.connections[c]
+                .src
+                .segs
+                .first()
+                .is_some_and(|s| s.name == a.long || s.name == a.short)
+        });
+        match spec_for(a, &children, drives) {
             Ok(Some(mut s)) => {
                 if let Err(e) = s.validate_custom() {
                     // Maya's limits may exclude the stored default; keep the attribute.

@@ -7,8 +7,10 @@
 //! - the chain runs from `startJoint` (the joint whose `message` feeds the handle's
 //!   `startJoint`) down to the end effector's parent, then the end joint (the joint whose
 //!   translate drives the effector; the effector's own position when none does);
-//! - `jointTranslate[k]`, `jointOrient[k]`, `jointRotateAxis[k]`, `jointRotateOrder[k]`,
-//!   `preferredAngle[k]` and `fkRotate[k]` are the joints' values in the file;
+//! - `jointTranslate[k]`, `jointOrient[k]`, `jointRotateAxis[k]`, `jointRotateOrder[k]`
+//!   and `preferredAngle[k]` are connected from the joints' own plugs (Maya's solvers read
+//!   the joints' current translates: a bone length the rig drives, as soft IK does, stretches
+//!   the chain), and `fkRotate[k]` is the joint's rotate in the file;
 //!   `startParentMatrix` ← the start joint's `parentMatrix`, `goalMatrix` ← the handle's
 //!   `worldMatrix`; `outRotate[k]` → joint `k`'s `rotate` for every joint but the end one
 //!   (Maya's solvers leave the end joint's rotation alone);
@@ -182,6 +184,20 @@ fn map_handle(imp: &mut Importer, h: usize) -> Result<Option<Solved>, MayaError>
         imp.acc.set_elem(&name, "jointRotateOrder", k, Value::Enum(ro));
         imp.acc.set_elem(&name, "preferredAngle", k, Value::Vec3(deg(pa)));
         imp.acc.set_elem(&name, "fkRotate", k, Value::Vec3(deg(r)));
+        // Maya's solvers read the joints' current translate and orientation (a bone whose
+        // length the rig drives, as in soft IK, stretches the chain): the joint's own
+        // plugs feed the solver, over the values above. Its rotate is the solver's output.
+        if let Some(jn) = j.and_then(|j| imp.sinew(j)).map(str::to_string) {
+            for (from, to) in [
+                ("translate", "jointTranslate"),
+                ("jointOrient", "jointOrient"),
+                ("rotateAxis", "jointRotateAxis"),
+                ("rotateOrder", "jointRotateOrder"),
+                ("preferredAngle", "preferredAngle"),
+            ] {
+                imp.connect(format!("{jn}.{from}"), format!("{name}.{to}[{k}]"), at);
+            }
+        }
     }
     let start_name = imp.sinew(start).unwrap_or_default().to_string();
     imp.connect(
