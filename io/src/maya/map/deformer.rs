@@ -11,6 +11,8 @@
 //! - `geomMatrix` ← the shape's transform's `worldMatrix` while the chain is in object
 //!   space (before a skinCluster, whose output is in world space), as Maya passes a
 //!   deformer the geometry's world matrix;
+//! - `clusterXforms` ← a `clusterHandle` shape: the shape folds, and its transform's
+//!   `matrix` (the handle's local matrix) feeds `weightedMatrix` (relative mode);
 //! - everything else (handle matrices, `deformerData` from a nonLinear handle shape,
 //!   lattice and wire inputs) goes through the connection pass under the same names.
 
@@ -66,6 +68,24 @@ fn weights(imp: &Importer, d: usize, n: usize) -> Result<Option<Vec<f64>>, MayaE
     Ok(any.then_some(w))
 }
 
+/// `clusterHandle.clusterTransforms → cluster.clusterXforms`: the handle shape carries
+/// the handle transform's local matrix (`weightedMatrix`, which relative mode uses), so
+/// the shape folds and its transform's `matrix` feeds the sinew node's `weightedMatrix`.
+fn fold_cluster_handle(imp: &mut Importer, c: usize, name: &str) {
+    let Some(s) = imp.ends[c].0 else { return };
+    if imp.ty(s) != "clusterHandle" {
+        return;
+    }
+    let at = imp.scene.connections[c].at;
+    if let Some(t) = imp.parent(s).and_then(|t| imp.sinew(t)).map(str::to_string) {
+        imp.connect(format!("{t}.matrix"), format!("{name}.weightedMatrix"), at);
+    }
+    imp.consume(c);
+    if !imp.handled(s) {
+        imp.set_status(s, Status::Folded);
+    }
+}
+
 /// Where a deformer sits in its chain: its input, the chain's base mesh, the shape's
 /// transform while the chain is in object space, and the vertex count.
 pub struct Place<'c> {
@@ -111,10 +131,13 @@ pub fn map_deformer(imp: &mut Importer, d: usize, place: &Place<'_>) -> Result<S
     if has("originalGeometry") {
         imp.connect(base, format!("{name}.originalGeometry"), at);
     }
+    let weighted = has("weightedMatrix");
     for c in imp.conns_into(d) {
         let p = imp.long_path(d, &imp.scene.connections[c].dst.segs);
         if p.starts_with("input[") || p.starts_with("originalGeometry") {
             imp.consume(c);
+        } else if p.starts_with("clusterXforms") && weighted {
+            fold_cluster_handle(imp, c, &name);
         }
     }
     let skip = |p: &str| matches!(p, "weightList" | "input" | "outputGeometry" | "originalGeometry");

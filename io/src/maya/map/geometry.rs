@@ -155,8 +155,10 @@ fn map_shape(imp: &mut Importer, shape: usize) -> Result<bool, MayaError> {
                     imp.node(shape).name
                 );
                 imp.warn(imp.node(d).at, msg);
+                let name = imp.node(d).name.clone();
                 imp.report.skip(
                     &ty,
+                    &name,
                     "deformer sinew does not have: the mesh is imported without it",
                     true,
                 );

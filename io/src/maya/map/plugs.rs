@@ -364,7 +364,8 @@ pub fn apply_set_attrs(
         })?;
         if !applied {
             let ty = imp.ty(i).to_string();
-            *imp.report.ignored_values.entry(format!("{ty}.{base}")).or_insert(0) += 1;
+            let name = imp.node(i).name.clone();
+            imp.report.ignore_value(format!("{ty}.{base}"), &name);
         }
     }
     Ok(())

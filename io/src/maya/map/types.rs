@@ -258,8 +258,9 @@ pub fn skip(imp: &mut Importer, i: usize) {
         );
         imp.warn(n.at, msg);
     }
-    imp.report
-        .skip(&ty, &reason, feeds && !SCENE_ONLY.contains(&n.ty.as_str()));
+    let affects = feeds && !SCENE_ONLY.contains(&n.ty.as_str());
+    let name = n.name.clone();
+    imp.report.skip(&ty, &name, &reason, affects);
     imp.set_status(i, Status::Skipped(reason));
 }
 
