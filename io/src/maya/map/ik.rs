@@ -281,24 +281,41 @@ fn spline_curve(imp: &mut Importer, h: usize, name: &str, redirects: &mut Vec<(S
         return;
     };
     imp.consume(c);
-    let data = imp
-        .set_attr(shape, "cached")
-        .or_else(|| imp.set_attr(shape, "create"))
-        .and_then(|a| imp.values(a).nurbs_curve().ok());
-    let Some(nc) = data else {
+    let Some(curve) = stored_curve(imp, shape) else {
         imp.warn(
             at,
             format!("{name}: the spline curve {} has no stored shape", imp.node(shape).name),
         );
         return;
     };
+    imp.acc.set(name, "curve", Value::Curve(std::sync::Arc::new(curve)));
+    imp.warn(
+        at,
+        format!(
+            "{name}: spline IK reads {}'s control points as stored, in the curve's own space; a curve moved or deformed by the rig is not followed",
+            imp.node(shape).name
+        ),
+    );
+    if !imp.handled(shape) {
+        imp.set_status(shape, Status::Folded);
+    }
+}
+
+/// A nurbsCurve shape's curve as the file stores it (`.cached`, else `.create`): control
+/// points in the file's length unit, Maya's knots with the first and last added back.
+pub(super) fn stored_curve(imp: &Importer, shape: usize) -> Option<Curve> {
+    let data = imp
+        .set_attr(shape, "cached")
+        .or_else(|| imp.set_attr(shape, "create"))
+        .and_then(|a| imp.values(a).nurbs_curve().ok());
+    let nc = data?;
     let mut knots = nc.knots.clone();
     if let (Some(&f), Some(&l)) = (knots.first(), knots.last()) {
         knots.insert(0, f);
         knots.push(l);
     }
     let units = imp.units.clone();
-    let curve = Curve {
+    Some(Curve {
         degree: nc.degree,
         points: nc
             .cvs
@@ -317,16 +334,5 @@ fn spline_curve(imp: &mut Importer, h: usize, name: &str, redirects: &mut Vec<(S
         } else {
             CurveForm::Open
         },
-    };
-    imp.acc.set(name, "curve", Value::Curve(std::sync::Arc::new(curve)));
-    imp.warn(
-        at,
-        format!(
-            "{name}: spline IK reads {}'s control points as stored, in the curve's own space; a curve moved or deformed by the rig is not followed",
-            imp.node(shape).name
-        ),
-    );
-    if !imp.handled(shape) {
-        imp.set_status(shape, Status::Folded);
-    }
+    })
 }

@@ -102,3 +102,43 @@ fn positions(g: &mut sinew_core::Graph) -> Vec<Vec3> {
         other => panic!("{other}"),
     }
 }
+
+/// A NURBS curve shape (a control's shape, or what a motionPath reads) keeps the curve
+/// Maya stored in `.cc`: degree, control points, and Maya's knots with the first and last
+/// repeated (degree 1, 3 points: `0 1 2` → `0 0 1 2 2`); its world space follows the
+/// transform above it.
+#[test]
+fn nurbs_curve_shapes_keep_their_stored_curve() {
+    let imp = import(
+        r#"requires maya "2022";
+currentUnit -l centimeter -a degree -t film;
+createNode transform -n "ctrl";
+	setAttr ".t" -type "double3" 0 0 5 ;
+createNode nurbsCurve -n "ctrlShape" -p "ctrl";
+	setAttr -k off ".v";
+	setAttr ".cc" -type "nurbsCurve" 
+		1 2 0 no 3
+		3 0 1 2
+		3
+		0 0 0
+		1 0 0
+		1 1 0
+		;
+"#,
+    );
+    let mut g = imp.rig.to_graph(&registry()).unwrap();
+    let Value::Curve(c) = g.get_path("ctrlShape.local").unwrap() else {
+        panic!("local is not a curve")
+    };
+    assert_eq!(c.degree, 1);
+    assert_eq!(c.knots, [0.0, 0.0, 1.0, 2.0, 2.0]);
+    let want = [glam::DVec3::ZERO, glam::DVec3::X, glam::DVec3::new(1.0, 1.0, 0.0)];
+    assert_eq!(c.points, want);
+    let Value::Curve(w) = g.get_path("ctrlShape.worldSpace[0]").unwrap() else {
+        panic!("worldSpace[0] is not a curve")
+    };
+    for (p, q) in w.points.iter().zip(want) {
+        assert_eq!(*p, q + glam::DVec3::new(0.0, 0.0, 5.0));
+    }
+    assert!(!imp.report.ignored_values.contains_key("nurbsCurve.cached"));
+}
