@@ -47,6 +47,8 @@ pub struct NodeRec {
     pub type_name: String,
     /// DAG parent.
     pub parent: Option<String>,
+    /// Custom attributes (Maya's `addAttr`), declared before the values.
+    pub custom: Vec<sinew_core::AttrSpec>,
     /// Attribute values by attribute name, in writing order.
     pub values: Vec<(String, AttrVal)>,
     /// Whether the node goes to the data sidecar.
@@ -120,6 +122,7 @@ impl RigBuilder {
             name: name.to_string(),
             type_name: type_name.to_string(),
             parent: parent.map(str::to_string),
+            custom: Vec::new(),
             values: Vec::new(),
             heavy,
         });
@@ -141,6 +144,11 @@ impl RigBuilder {
         self.nodes[i].values.push((attr.to_string(), AttrVal::Sparse(v)));
     }
 
+    /// Declares a custom attribute on node `i`.
+    pub fn add_custom(&mut self, i: usize, attr: sinew_core::AttrSpec) {
+        self.nodes[i].custom.push(attr);
+    }
+
     /// Adds a connection.
     pub fn connect(&mut self, src: impl Into<String>, dst: impl Into<String>) {
         self.connections.push((src.into(), dst.into()));
@@ -150,8 +158,13 @@ impl RigBuilder {
     pub fn to_graph(&self, registry: &Arc<Registry>) -> Result<Graph, String> {
         let mut g = Graph::new(registry.clone());
         for n in &self.nodes {
-            g.add_node(&n.type_name, &n.name)
+            let id = g
+                .add_node(&n.type_name, &n.name)
                 .map_err(|e| format!("node {}: {e}", n.name))?;
+            for a in &n.custom {
+                g.add_attr(id, a.clone())
+                    .map_err(|e| format!("node {}: custom attribute {}: {e}", n.name, a.name))?;
+            }
         }
         for n in &self.nodes {
             if let Some(p) = &n.parent {
@@ -204,8 +217,16 @@ impl RigBuilder {
                 quote(&mut s, p);
                 parts.push(s);
             }
+            if !n.custom.is_empty() {
+                let mut s = String::from("attrs: ");
+                print_ast(&mut s, &sinew_core::rig::write_attrs(&n.custom));
+                parts.push(s);
+            }
             for (attr, v) in &n.values {
-                let a = spec.find(attr).map(|(id, _)| spec.attr(id));
+                let a = spec
+                    .find(attr)
+                    .map(|(id, _)| spec.attr(id))
+                    .or_else(|| n.custom.iter().find(|c| c.name == *attr));
                 let mut s = format!("{attr}: ");
                 let mut value = |s: &mut String, v: &Value, key: String| match files.as_deref_mut() {
                     Some(f) if f.wants(v) => f.reference(s, v, &key),

@@ -343,7 +343,7 @@ fn decl_ast(a: &AttrSpec) -> Ast {
 }
 
 /// `attrs: { .. }` for a node's custom attributes, in declaration order.
-pub(super) fn write_attrs(attrs: &[AttrSpec]) -> Ast {
+pub fn write_attrs(attrs: &[AttrSpec]) -> Ast {
     Ast::Map(
         attrs
             .iter()

@@ -64,6 +64,7 @@ use std::sync::Arc;
 pub use build::{
     load_rig, load_rig_str, load_rig_with, load_rig_with_limits, LoadLimits, LoadedRig, DEFAULT_MAX_NODES,
 };
+pub use custom_decl::write_attrs;
 pub use diag::{Diagnostic, Diagnostics, Span};
 pub use doc::RigDocument;
 pub use export::{to_dot, to_json};

@@ -28,6 +28,17 @@ pub struct Skip {
     /// Whether at least one of them feeds something that was mapped (a skip that changes
     /// the rig; `--strict` refuses these).
     pub affects_rig: bool,
+    /// The skipped nodes' names, in file order.
+    pub nodes: Vec<String>,
+}
+
+/// Values set on one Maya attribute that sinew has no counterpart of.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct IgnoredValues {
+    /// How many values (elements of a multi count one each).
+    pub values: usize,
+    /// The nodes they were set on, in file order, each once.
+    pub nodes: Vec<String>,
 }
 
 /// The report of one import.
@@ -46,8 +57,9 @@ pub struct ImportReport {
     /// Statements skipped by the reader, `file:line:col: why`.
     pub statements: Vec<String>,
     /// Values set in the file on attributes sinew has no counterpart of, by `type.attr`
-    /// (display colours, limits, UI state...), with how many times.
-    pub ignored_values: BTreeMap<String, usize>,
+    /// (display colours, limits, UI state...): the nodes they were set on, in file order
+    /// (a node once per attribute), and how many values.
+    pub ignored_values: BTreeMap<String, IgnoredValues>,
     /// Number of sinew nodes and connections written.
     pub rig_nodes: usize,
     /// Connections written.
@@ -66,15 +78,27 @@ impl ImportReport {
         }
     }
 
-    /// Records a skipped node of `ty`.
-    pub fn skip(&mut self, ty: &str, reason: &str, affects_rig: bool) {
+    /// Records a skipped node `node` of type `ty`.
+    pub fn skip(&mut self, ty: &str, node: &str, reason: &str, affects_rig: bool) {
         let s = self.skipped.entry(ty.to_string()).or_insert_with(|| Skip {
             count: 0,
             reason: reason.to_string(),
             affects_rig: false,
+            nodes: Vec::new(),
         });
         s.count += 1;
         s.affects_rig |= affects_rig;
+        s.nodes.push(node.to_string());
+    }
+
+    /// Records a value set on `node`'s attribute `type.attr` that sinew has no
+    /// counterpart of.
+    pub fn ignore_value(&mut self, type_attr: String, node: &str) {
+        let v = self.ignored_values.entry(type_attr).or_default();
+        v.values += 1;
+        if v.nodes.last().map(String::as_str) != Some(node) && !v.nodes.iter().any(|n| n == node) {
+            v.nodes.push(node.to_string());
+        }
     }
 
     /// Whether `--strict` refuses this import: a skipped type or a dropped connection that
@@ -116,7 +140,7 @@ impl ImportReport {
             let _ = writeln!(s, "skipped types:");
             for (t, k) in &self.skipped {
                 let mark = if k.affects_rig { " [affects the rig]" } else { "" };
-                let _ = writeln!(s, "  {t} ({}): {}{mark}", k.count, k.reason);
+                let _ = writeln!(s, "  {t} ({}): {}{mark}: {}", k.count, k.reason, k.nodes.join(", "));
             }
         }
         if !self.statements.is_empty() {
@@ -126,18 +150,15 @@ impl ImportReport {
             }
         }
         if !self.ignored_values.is_empty() {
-            let n: usize = self.ignored_values.values().sum();
+            let n: usize = self.ignored_values.values().map(|v| v.values).sum();
             let _ = writeln!(
                 s,
-                "values without a sinew attribute (not imported): {n} ({} attributes: {})",
-                self.ignored_values.len(),
-                self.ignored_values
-                    .keys()
-                    .take(40)
-                    .cloned()
-                    .collect::<Vec<_>>()
-                    .join(", ")
+                "values without a sinew attribute (not imported): {n} on {} attributes:",
+                self.ignored_values.len()
             );
+            for (a, v) in &self.ignored_values {
+                let _ = writeln!(s, "  {a} ({} values): {}", v.values, v.nodes.join(", "));
+            }
         }
         let _ = writeln!(s, "warnings: {}", self.warnings.len());
         for w in &self.warnings {

@@ -286,6 +286,23 @@ const NURBS_CURVE: Table = &[
     ("cached", "cc", N),
 ];
 
+/// The nonLinear handle shapes (`deformSquash`, `deformBend`, ...), as Maya files name
+/// their plugs.
+const DEFORM_FUNC: Table = &[
+    ("deformerData", "dd", N),
+    ("handleWidth", "hw", N),
+    ("lowBound", "lb", N),
+    ("highBound", "hb", N),
+];
+
+const DEFORM_SQUASH: Table = &[
+    ("factor", "fac", N),
+    ("expand", "exp", N),
+    ("maxExpandPos", "mp", N),
+    ("startSmoothness", "ss", N),
+    ("endSmoothness", "es", N),
+];
+
 const FOLLICLE: Table = &[
     ("inputMesh", "inm", N),
     ("inputSurface", "is", N),
@@ -318,4 +335,6 @@ pub(super) const TYPES: &[(&str, Option<&str>, Table)] = &[
     ("nurbsCurve", Some("shape"), NURBS_CURVE),
     ("follicle", Some("shape"), FOLLICLE),
     ("camera", Some("shape"), &[]),
+    ("deformFunc", Some("shape"), DEFORM_FUNC),
+    ("deformSquash", Some("deformFunc"), DEFORM_SQUASH),
 ];

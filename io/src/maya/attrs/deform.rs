@@ -62,6 +62,26 @@ const GEOMETRY_FILTER: Table = &[
 
 const WEIGHT_GEOMETRY_FILTER: Table = &[("weightList", "wl", N), ("weights", "w", N)];
 
+/// `cluster` (Maya's node reference, *cluster*): `clusterXforms` is the compound the
+/// `clusterHandle` shape feeds.
+const CLUSTER: Table = &[
+    ("percentResolution", "ptr", N),
+    ("usePartialResolution", "upr", N),
+    ("relative", "rel", N),
+    ("clusterXforms", "x", N),
+    ("preMatrix", "pre", N),
+    ("weightedMatrix", "wt", N),
+    ("postMatrix", "post", N),
+    ("weightedCompensationMatrix", "wcm", N),
+    ("geomMatrix", "gm", N),
+    ("matrix", "ma", N),
+    ("bindPreMatrix", "pm", N),
+    ("bindState", "bs", N),
+    ("postCompensationMatrix", "psc", N),
+    ("preCompensationMatrix", "prc", N),
+    ("angleInterpolation", "ait", N),
+];
+
 const SKIN_CLUSTER: Table = &[
     ("weightList", "wl", N),
     ("weights", "w", N),
@@ -177,7 +197,7 @@ pub(super) const TYPES: &[(&str, Option<&str>, Table)] = &[
         Some("weightGeometryFilter"),
         &[("matrix", "ma", N), ("deformerData", "dd", N)],
     ),
-    ("cluster", Some("weightGeometryFilter"), &[]),
+    ("cluster", Some("weightGeometryFilter"), CLUSTER),
     ("ffd", Some("weightGeometryFilter"), &[]),
     ("wire", Some("weightGeometryFilter"), &[]),
     ("deltaMush", Some("weightGeometryFilter"), &[]),

@@ -36,6 +36,11 @@ impl Accum {
         self.index.insert(name.to_string(), k);
     }
 
+    /// The rig index of sinew node `name`.
+    pub fn rig_index(&self, name: &str) -> Option<usize> {
+        self.index.get(name).copied()
+    }
+
     /// The sinew type of node `name`.
     pub fn type_of<'r>(&self, rig: &'r RigBuilder, name: &str) -> Option<&'r str> {
         let k = *self.index.get(name)?;
@@ -123,14 +128,29 @@ pub fn finish(imp: &mut Importer) -> Result<(), MayaError> {
     }
     let at_of = |name: &str| origin.get(name).copied().unwrap_or(0);
     let mut g = Graph::new(imp.registry.clone());
-    for n in &imp.rig.nodes {
-        g.add_node(&n.type_name, &n.name).map_err(|e| {
+    for k in 0..imp.rig.nodes.len() {
+        let n = &imp.rig.nodes[k];
+        let id = g.add_node(&n.type_name, &n.name).map_err(|e| {
             imp.error(
                 0,
                 format!("internal: sinew node {}: {e}", n.name),
                 "report this as a bug",
             )
         })?;
+        // Custom attributes the graph refuses are left out, with a warning.
+        let custom = std::mem::take(&mut imp.rig.nodes[k].custom);
+        for a in custom {
+            match g.add_attr(id, a.clone()) {
+                Ok(_) => imp.rig.nodes[k].custom.push(a),
+                Err(e) => {
+                    let name = imp.rig.nodes[k].name.clone();
+                    imp.warn(
+                        at_of(&name),
+                        format!("custom attribute {name}.{} not imported: {e}", a.name),
+                    );
+                }
+            }
+        }
     }
     for k in 0..imp.rig.nodes.len() {
         if let Some(p) = imp.rig.nodes[k].parent.clone() {

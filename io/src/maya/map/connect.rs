@@ -60,6 +60,13 @@ fn zero_joint_pivot(imp: &Importer, n: usize, segs: &[Seg]) -> bool {
     p.starts_with("rotatePivot") || p.starts_with("scalePivot")
 }
 
+/// Whether a connection from this plug can change a rig: not a `message` plug
+/// (bookkeeping) and not from scene data (a UI manager, a default node).
+fn carries_data(imp: &Importer, s: usize, segs: &[Seg]) -> bool {
+    let scene = imp.node(s).existing || super::types::scene_only(imp.ty(s));
+    !scene && imp.long_path(s, segs) != "message"
+}
+
 /// Maps every connection left over.
 pub fn map_connections(imp: &mut Importer) -> Result<(), MayaError> {
     for c in 0..imp.scene.connections.len() {
@@ -105,7 +112,8 @@ pub fn map_connections(imp: &mut Importer) -> Result<(), MayaError> {
                     (None, Err(e), _) | (None, _, Err(e)) => e,
                     (None, Ok(_), Ok(_)) => continue,
                 };
-                let into_rig = matches!(imp.nodes[d].status, Some(Status::Mapped(_)));
+                let into_rig =
+                    matches!(imp.nodes[d].status, Some(Status::Mapped(_))) && carries_data(imp, s, &conn.src.segs);
                 let line = format!("{}: {} -> {}: {reason}", imp.place(conn.at), conn.src, conn.dst);
                 imp.report.dropped.push(line);
                 if into_rig {
@@ -132,7 +140,10 @@ fn connect_plugs(imp: &mut Importer, c: usize, s: usize, d: usize, st: Target, d
             dt.path()
         );
         imp.report.dropped.push(line);
-        imp.report.dropped_into_rig += 1;
+        // Visibility is display state: nothing in a sinew rig reads it.
+        if dt.attr != "visibility" {
+            imp.report.dropped_into_rig += 1;
+        }
         return;
     }
     let factor = match (known_class(imp, s, &conn.src.segs), known_class(imp, d, &conn.dst.segs)) {

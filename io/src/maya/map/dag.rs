@@ -84,8 +84,10 @@ pub fn map_dag(imp: &mut Importer) -> Result<(), MayaError> {
             None => {
                 if n.ty == "transform" {
                     // A default camera's transform.
+                    let name = n.name.clone();
                     imp.report.skip(
                         "transform",
+                        &name,
                         "the transform of a default camera (persp, top, ...)",
                         false,
                     );

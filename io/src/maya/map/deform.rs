@@ -42,6 +42,8 @@ pub struct Chain {
     pub folded: Vec<usize>,
     /// Connections among the chain's nodes.
     pub conns: Vec<usize>,
+    /// `(deformer, groupParts)`: the groupParts that selects what each deformer acts on.
+    pub parts: Vec<(usize, usize)>,
 }
 
 /// Walks upstream from `shape` (see the module docs).
@@ -51,6 +53,7 @@ pub fn walk_chain(imp: &mut Importer, shape: usize) -> Chain {
         deformers: Vec::new(),
         folded: Vec::new(),
         conns: Vec::new(),
+        parts: Vec::new(),
     };
     let mut members: HashSet<usize> = HashSet::from([shape]);
     let mut at = imp.input_conn(shape, "inMesh");
@@ -73,7 +76,11 @@ pub fn walk_chain(imp: &mut Importer, shape: usize) -> Chain {
         }
         if ty == "groupParts" {
             chain.folded.push(src);
-            check_membership(imp, src);
+            if let Some(&d) = chain.deformers.last() {
+                if !chain.parts.iter().any(|(x, _)| *x == d) {
+                    chain.parts.push((d, src));
+                }
+            }
             at = imp.input_conn(src, "inputGeometry");
             if at.is_none() {
                 chain.base = Base::Unsupported(src, "a groupParts with no input".into());
@@ -142,23 +149,23 @@ fn output_index(path: &str) -> Option<u32> {
     rest.strip_prefix('[')?.strip_suffix(']')?.parse().ok()
 }
 
-/// Warns when a `groupParts` selects fewer than all components.
-fn check_membership(imp: &mut Importer, gp: usize) {
-    let Some(a) = imp.set_attr(gp, "inputComponents") else {
-        return;
-    };
-    let Ok(list) = imp.values(a).component_list() else {
-        return;
-    };
-    if list.iter().any(|c| c.first.is_none()) {
-        return;
+/// The vertices deformer `d` acts on (its groupParts' `inputComponents`); `None` for every
+/// vertex.
+pub fn membership(imp: &Importer, chain: &Chain, d: usize) -> Option<Vec<i64>> {
+    let (_, gp) = chain.parts.iter().find(|(x, _)| *x == d)?;
+    let a = imp.set_attr(*gp, "inputComponents")?;
+    let list = imp.values(a).component_list().ok()?;
+    if list.is_empty() || list.iter().any(|c| c.first.is_none()) {
+        return None;
     }
-    let msg = format!(
-        "{}: the deformer after it acts on part of the mesh ({} component ranges); sinew deforms every vertex",
-        imp.node(gp).name,
-        list.len()
-    );
-    imp.warn(imp.node(gp).at, msg);
+    let mut v: Vec<i64> = list
+        .iter()
+        .filter(|c| c.kind == "vtx")
+        .flat_map(|c| i64::from(c.first.unwrap_or(0))..=i64::from(c.last.unwrap_or(0)))
+        .collect();
+    v.sort_unstable();
+    v.dedup();
+    Some(v)
 }
 
 /// Adds the offsets of the chain's first `tweak` node (`vlist[0].vertex[k]`) to the base

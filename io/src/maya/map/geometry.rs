@@ -126,7 +126,8 @@ fn map_shape(imp: &mut Importer, shape: usize) -> Result<bool, MayaError> {
         fold_chain(imp, &chain);
         return Ok(uv_dropped);
     }
-    let mut geom = format!("{data_name}.outMesh");
+    let base_plug = format!("{data_name}.outMesh");
+    let mut geom = base_plug.clone();
     let mut skinned = false;
     for &d in &chain.deformers {
         let ty = imp.node(d).ty.clone();
@@ -137,6 +138,16 @@ fn map_shape(imp: &mut Importer, shape: usize) -> Result<bool, MayaError> {
                 skinned = true;
                 skin::map_skin_cluster(imp, d, &geom, vertex_count)?
             }
+            _ if super::deformer::supported(imp, &ty) => {
+                let place = super::deformer::Place {
+                    geom: &geom,
+                    base: &base_plug,
+                    world: if skinned { None } else { owner.as_deref() },
+                    chain: &chain,
+                    vertex_count,
+                };
+                super::deformer::map_deformer(imp, d, &place)?
+            }
             _ => {
                 let msg = format!(
                     "deformer {} ({ty}) is not supported by sinew: {} is imported without its effect (the shape shows its input instead)",
@@ -144,8 +155,10 @@ fn map_shape(imp: &mut Importer, shape: usize) -> Result<bool, MayaError> {
                     imp.node(shape).name
                 );
                 imp.warn(imp.node(d).at, msg);
+                let name = imp.node(d).name.clone();
                 imp.report.skip(
                     &ty,
+                    &name,
                     "deformer sinew does not have: the mesh is imported without it",
                     true,
                 );
@@ -153,6 +166,14 @@ fn map_shape(imp: &mut Importer, shape: usize) -> Result<bool, MayaError> {
                 geom
             }
         };
+        if matches!(ty.as_str(), "skinCluster" | "blendShape") && super::deform::membership(imp, &chain, d).is_some() {
+            let msg = format!(
+                "{}: the {ty} acts on part of {} in Maya; sinew's acts on every vertex",
+                imp.node(d).name,
+                imp.node(shape).name
+            );
+            imp.warn(imp.node(d).at, msg);
+        }
     }
     let raw = imp.names.sinew_name(imp.scene, shape);
     let name = imp.unique(&raw);

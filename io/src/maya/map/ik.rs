@@ -7,8 +7,10 @@
 //! - the chain runs from `startJoint` (the joint whose `message` feeds the handle's
 //!   `startJoint`) down to the end effector's parent, then the end joint (the joint whose
 //!   translate drives the effector; the effector's own position when none does);
-//! - `jointTranslate[k]`, `jointOrient[k]`, `jointRotateAxis[k]`, `jointRotateOrder[k]`,
-//!   `preferredAngle[k]` and `fkRotate[k]` are the joints' values in the file;
+//! - `jointTranslate[k]`, `jointOrient[k]`, `jointRotateAxis[k]`, `jointRotateOrder[k]`
+//!   and `preferredAngle[k]` are connected from the joints' own plugs (Maya's solvers read
+//!   the joints' current translates: a bone length the rig drives, as soft IK does, stretches
+//!   the chain), and `fkRotate[k]` is the joint's rotate in the file;
 //!   `startParentMatrix` ← the start joint's `parentMatrix`, `goalMatrix` ← the handle's
 //!   `worldMatrix`; `outRotate[k]` → joint `k`'s `rotate` for every joint but the end one
 //!   (Maya's solvers leave the end joint's rotation alone);
@@ -182,6 +184,20 @@ fn map_handle(imp: &mut Importer, h: usize) -> Result<Option<Solved>, MayaError>
         imp.acc.set_elem(&name, "jointRotateOrder", k, Value::Enum(ro));
         imp.acc.set_elem(&name, "preferredAngle", k, Value::Vec3(deg(pa)));
         imp.acc.set_elem(&name, "fkRotate", k, Value::Vec3(deg(r)));
+        // Maya's solvers read the joints' current translate and orientation (a bone whose
+        // length the rig drives, as in soft IK, stretches the chain): the joint's own
+        // plugs feed the solver, over the values above. Its rotate is the solver's output.
+        if let Some(jn) = j.and_then(|j| imp.sinew(j)).map(str::to_string) {
+            for (from, to) in [
+                ("translate", "jointTranslate"),
+                ("jointOrient", "jointOrient"),
+                ("rotateAxis", "jointRotateAxis"),
+                ("rotateOrder", "jointRotateOrder"),
+                ("preferredAngle", "preferredAngle"),
+            ] {
+                imp.connect(format!("{jn}.{from}"), format!("{name}.{to}[{k}]"), at);
+            }
+        }
     }
     let start_name = imp.sinew(start).unwrap_or_default().to_string();
     imp.connect(
@@ -265,24 +281,41 @@ fn spline_curve(imp: &mut Importer, h: usize, name: &str, redirects: &mut Vec<(S
         return;
     };
     imp.consume(c);
-    let data = imp
-        .set_attr(shape, "cached")
-        .or_else(|| imp.set_attr(shape, "create"))
-        .and_then(|a| imp.values(a).nurbs_curve().ok());
-    let Some(nc) = data else {
+    let Some(curve) = stored_curve(imp, shape) else {
         imp.warn(
             at,
             format!("{name}: the spline curve {} has no stored shape", imp.node(shape).name),
         );
         return;
     };
+    imp.acc.set(name, "curve", Value::Curve(std::sync::Arc::new(curve)));
+    imp.warn(
+        at,
+        format!(
+            "{name}: spline IK reads {}'s control points as stored, in the curve's own space; a curve moved or deformed by the rig is not followed",
+            imp.node(shape).name
+        ),
+    );
+    if !imp.handled(shape) {
+        imp.set_status(shape, Status::Folded);
+    }
+}
+
+/// A nurbsCurve shape's curve as the file stores it (`.cached`, else `.create`): control
+/// points in the file's length unit, Maya's knots with the first and last added back.
+pub(super) fn stored_curve(imp: &Importer, shape: usize) -> Option<Curve> {
+    let data = imp
+        .set_attr(shape, "cached")
+        .or_else(|| imp.set_attr(shape, "create"))
+        .and_then(|a| imp.values(a).nurbs_curve().ok());
+    let nc = data?;
     let mut knots = nc.knots.clone();
     if let (Some(&f), Some(&l)) = (knots.first(), knots.last()) {
         knots.insert(0, f);
         knots.push(l);
     }
     let units = imp.units.clone();
-    let curve = Curve {
+    Some(Curve {
         degree: nc.degree,
         points: nc
             .cvs
@@ -301,16 +334,5 @@ fn spline_curve(imp: &mut Importer, h: usize, name: &str, redirects: &mut Vec<(S
         } else {
             CurveForm::Open
         },
-    };
-    imp.acc.set(name, "curve", Value::Curve(std::sync::Arc::new(curve)));
-    imp.warn(
-        at,
-        format!(
-            "{name}: spline IK reads {}'s control points as stored, in the curve's own space; a curve moved or deformed by the rig is not followed",
-            imp.node(shape).name
-        ),
-    );
-    if !imp.handled(shape) {
-        imp.set_status(shape, Status::Folded);
-    }
+    })
 }

@@ -12,8 +12,10 @@ mod anim;
 mod blend;
 mod connect;
 mod constraint;
+mod custom;
 mod dag;
 mod deform;
+mod deformer;
 mod geometry;
 mod ik;
 mod meshdata;
@@ -231,11 +233,20 @@ impl<'a> Importer<'a> {
             Status::Folded => Outcome::Folded,
             Status::Skipped(_) | Status::Pending => Outcome::Skipped,
         };
-        if self.nodes[i].status.is_none() {
+        let first = self.nodes[i].status.is_none();
+        if first {
             self.report
                 .count(if ty.is_empty() { "(default node)" } else { &ty }, outcome);
         }
+        // A node mapped for the first time gets its dynamic attributes on its sinew node.
+        let declare = match &status {
+            Status::Mapped(n) if first => self.acc.rig_index(n),
+            _ => None,
+        };
         self.nodes[i].status = Some(status);
+        if let Some(k) = declare {
+            custom::declare(self, i, k);
+        }
     }
 
     /// The sinew node node `i` maps to.

@@ -187,9 +187,22 @@ fn target_depth(imp: &Importer, i: usize, segs: &[Seg], depth: usize) -> Result<
         .spec(ty)
         .ok_or_else(|| format!("unknown sinew type {ty}"))?;
     let none = || format!("{ty} has no attribute for Maya's {}.{key}", imp.ty(i));
+    let custom: &[AttrSpec] = imp.acc.rig_index(node).map_or(&[], |k| &imp.rig.nodes[k].custom);
+    let find = |name: &str| -> Option<(AttrSpec, Option<u8>)> {
+        if let Some((id, comp)) = spec.find(name) {
+            return Some((spec.attr(id).clone(), comp));
+        }
+        custom.iter().find_map(|c| {
+            if c.name == name || c.short_name.as_deref() == Some(name) {
+                return Some((c.clone(), None));
+            }
+            let k = c.children.as_ref()?.iter().position(|ch| ch == name)?;
+            Some((c.clone(), Some(k as u8)))
+        })
+    };
     let make = |name: &str, index: Option<u32>, child: Option<&str>| -> Option<Target> {
-        let (id, comp) = spec.find(name)?;
-        let a = spec.attr(id);
+        let (a, comp) = find(name)?;
+        let a = &a;
         let index = match (a.multi, index) {
             (true, Some(i)) => Some(i),
             (true, None) => return None,
@@ -351,7 +364,8 @@ pub fn apply_set_attrs(
         })?;
         if !applied {
             let ty = imp.ty(i).to_string();
-            *imp.report.ignored_values.entry(format!("{ty}.{base}")).or_insert(0) += 1;
+            let name = imp.node(i).name.clone();
+            imp.report.ignore_value(format!("{ty}.{base}"), &name);
         }
     }
     Ok(())

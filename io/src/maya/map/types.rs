@@ -158,6 +158,11 @@ const SCENE_ONLY: &[&str] = &[
     "objectSet",
 ];
 
+/// Whether a type is scene data with no effect on a rig (see [`SCENE_ONLY`]).
+pub fn scene_only(ty: &str) -> bool {
+    SCENE_ONLY.contains(&ty)
+}
+
 /// The mapper of a Maya type, if any (see the module docs for the same-name fallback).
 pub fn handler_for(ty: &str, registry: &Registry) -> Option<Handler> {
     if let Some(&(_, _, _, h)) = TABLE.iter().find(|(t, _, _, _)| *t == ty) {
@@ -253,8 +258,9 @@ pub fn skip(imp: &mut Importer, i: usize) {
         );
         imp.warn(n.at, msg);
     }
-    imp.report
-        .skip(&ty, &reason, feeds && !SCENE_ONLY.contains(&n.ty.as_str()));
+    let affects = feeds && !SCENE_ONLY.contains(&n.ty.as_str());
+    let name = n.name.clone();
+    imp.report.skip(&ty, &name, &reason, affects);
     imp.set_status(i, Status::Skipped(reason));
 }
 

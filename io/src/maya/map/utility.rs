@@ -15,7 +15,20 @@ pub fn map_same_name(imp: &mut Importer, i: usize) -> Result<(), MayaError> {
     let raw = imp.names.sinew_name(imp.scene, i);
     let name = imp.unique(&raw);
     imp.add(&name, &ty, None, false);
-    imp.set_status(i, Status::Mapped(name));
+    imp.set_status(i, Status::Mapped(name.clone()));
+    if ty == "nurbsCurve" {
+        // Maya stores the shape's curve in `cached` (or `create`); sinew's shape takes it
+        // on `create` and its transform's world matrix on `worldMatrix`.
+        let at = imp.node(i).at;
+        if let Some(c) = super::ik::stored_curve(imp, i) {
+            imp.acc
+                .set(&name, "create", sinew_core::Value::Curve(std::sync::Arc::new(c)));
+        }
+        if let Some(t) = imp.parent(i).and_then(|t| imp.sinew(t)).map(str::to_string) {
+            imp.connect(format!("{t}.worldMatrix"), format!("{name}.worldMatrix"), at);
+        }
+        return apply_set_attrs(imp, i, &|p| p == "cached" || p == "create");
+    }
     apply_set_attrs(imp, i, &|_| false)
 }
 

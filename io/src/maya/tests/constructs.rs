@@ -88,11 +88,24 @@ createNode remapValue -n "rv";
 #[test]
 fn unknown_types_and_commands_are_reported() {
     let text = format!(
-        "{HEADER}createNode myPluginNode -n \"plug1\";\n\tsetAttr \".foo\" 3;\ncreateNode transform -n \"t\";\nsomeCommand -x 1;\nconnectAttr \"plug1.out\" \"t.tx\";\n"
+        "{HEADER}createNode myPluginNode -n \"plug1\";\n\tsetAttr \".foo\" 3;\ncreateNode transform -n \"t\";\nsomeCommand -x 1;\nconnectAttr \"plug1.out\" \"t.tx\";\n\tsetAttr \"t.mxrl\" -type \"double3\" 45 45 45;\ncreateNode transform -n \"u\";\n\tsetAttr \".mxrl\" -type \"double3\" 45 45 45;\n"
     );
     let imp = import(&text);
     let s = imp.report.skipped.get("myPluginNode").expect("skipped type listed");
     assert_eq!(s.count, 1);
+    assert_eq!(s.nodes, ["plug1"]);
+    // A value on an attribute sinew does not have is reported with its node.
+    let v = &imp.report.ignored_values["transform.maxRotLimit"];
+    assert_eq!(
+        (v.values, v.nodes.as_slice()),
+        (2, ["t".to_string(), "u".to_string()].as_slice())
+    );
+    let summary = imp.report.summary();
+    assert!(summary.contains("transform.maxRotLimit (2 values): t, u"), "{summary}");
+    assert!(
+        summary.contains("myPluginNode (1): no sinew node type for it [affects the rig]: plug1"),
+        "{summary}"
+    );
     assert!(s.affects_rig, "it drives a mapped node");
     assert_eq!(imp.report.dropped.len(), 1);
     assert!(

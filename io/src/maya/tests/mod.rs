@@ -3,6 +3,7 @@
 
 mod anim;
 mod assets;
+mod chain;
 mod constructs;
 mod deform;
 mod rigging;
