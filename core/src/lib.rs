@@ -50,6 +50,6 @@ pub use rig::{
 };
 pub use spec::{
     AttrId, AttrSpec, ComputeGroup, DagLink, DagSpec, Direction, Input, MirrorRole, MultiInput, MultiOutput, NodeSpec,
-    Output, SpecBuilder, Unit,
+    Output, SpecBuilder, StatusSpec, Unit,
 };
 pub use value::{AttrType, AttrValue, ObjectRef, SharedData, Value};

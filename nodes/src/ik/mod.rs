@@ -109,6 +109,7 @@
 pub mod chain;
 pub mod curve;
 pub mod curve_node;
+pub mod curve_shape;
 mod geom;
 pub mod iterative;
 mod node_chain;
@@ -154,5 +155,6 @@ pub fn register(registry: &mut sinew_core::Registry) -> Result<(), sinew_core::S
     registry.register(nodes_sc::IkSc::new()?)?;
     registry.register(nodes_spline::IkSpline::new()?)?;
     registry.register(curve_node::CurveFromPoints::new()?)?;
+    registry.register(curve_shape::NurbsCurveShape::new()?)?;
     Ok(())
 }
