@@ -31,11 +31,12 @@ mod slots;
 pub mod spec;
 mod tape;
 pub mod testing;
+pub mod validate;
 pub mod value;
 pub mod value_file;
 
 pub use custom::{CustomAffects, CustomNode};
-pub use data::{Curve, CurveForm, Mesh, Weights};
+pub use data::{Curve, CurveForm, Mesh, Surface, Weights};
 pub use error::{ComputeError, Error, InputError, Result, SpecError};
 pub use graph::{EvalStats, Graph, NodeId, Plug, MAX_ELEMENT_INDEX};
 pub use kernel::{finite, KernelNode, ScalarKernel, ScalarOp, MAX_KERNEL_INPUTS};
@@ -52,4 +53,5 @@ pub use spec::{
     AttrId, AttrSpec, ComputeGroup, DagLink, DagSpec, Direction, Input, MirrorRole, MultiInput, MultiOutput, NodeSpec,
     Output, SpecBuilder, StatusSpec, Unit,
 };
+pub use validate::{Problem, ValidateInputs};
 pub use value::{AttrType, AttrValue, ObjectRef, SharedData, Value};

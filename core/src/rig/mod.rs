@@ -20,6 +20,7 @@
 mod assemble;
 mod build;
 mod canon;
+mod checks;
 #[doc(hidden)]
 pub mod comment_check;
 mod custom_decl;
@@ -35,6 +36,7 @@ pub mod parse;
 mod save;
 mod source;
 pub mod typed;
+mod typed_surface;
 
 #[cfg(test)]
 mod tests;

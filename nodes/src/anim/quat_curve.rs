@@ -17,9 +17,12 @@
 //!   `outputValue[i]` (component `i`, e.g. a morph target weight).
 //!
 //! # Sampling (glTF 2.0 Appendix C, identical to `sinew::io::scene::AnimationChannel::sample`)
-//! The time is the graph time in seconds rounded to `f32` (glTF's precision) for the key
-//! search, so a frame that lands on a key (as `f32`) returns that key exactly. Before the
-//! first key and after the last the value is clamped. STEP holds the earlier key; LINEAR
+//! The time is the graph time in seconds, in `f64` from the frame number down to the key
+//! search and the interpolation (keys keep the precision the file gave them: glTF key
+//! times are `f32` values, held exactly), so the sample at 39/72 s is the spec's
+//! interpolation at 39/72 s, and time steps stay exact however long the take (at 600 s an
+//! `f32` time moves in steps of 61 µs). A time equal to a key returns that key exactly.
+//! Before the first key and after the last the value is clamped. STEP holds the earlier key; LINEAR
 //! lerps (rotations: spec slerp along the shorter arc, `a = acos|d|`, plain lerp when
 //! `sin a < 1e-9`); CUBICSPLINE evaluates the Hermite form with tangents scaled by the key
 //! interval. Rotations are normalized. Interpolation runs in `f64`; unlike the reference
@@ -33,7 +36,26 @@
 use std::sync::Arc;
 
 use glam::{DQuat, DVec3};
-use sinew_core::{ComputeContext, ComputeError, Input, MultiOutput, NodeSpec, NodeType, Output, SpecError, Unit};
+use sinew_core::{
+    ComputeContext, ComputeError, Input, MultiOutput, NodeSpec, NodeType, Output, Problem, SpecError, Unit,
+    ValidateInputs,
+};
+
+/// A curve's key attributes: `keyTime`, `keyValue`, `interpolation`.
+type KeyInputs = (Input<Arc<Vec<f64>>>, Input<Arc<Vec<f64>>>, Input<i64>);
+
+/// The problem `check_keys` finds in known keys, reported on `keyTime`.
+fn keys_problem(inputs: &ValidateInputs<'_>, (time, value, interp): KeyInputs, width: usize) -> Vec<Problem> {
+    let (Some(t), Some(v), Some(i)) = (inputs.get(time), inputs.get(value), inputs.get(interp)) else {
+        return Vec::new();
+    };
+    match check_keys(&t, &v, width, Interp::from_index(i)) {
+        Ok(()) => Vec::new(),
+        Err(e) => {
+            vec![Problem::new(time, e).hint("times strictly increasing, and width values per key (3 per key for cubic)")]
+        }
+    }
+}
 
 use crate::transform::dag_nodes::{rad_to_deg, rotate_order, ROTATE_ORDERS};
 use crate::transform::euler::quat_to_euler;
@@ -117,7 +139,7 @@ pub fn sample_keys(
     };
     let off = if interp == Interp::CubicSpline { width } else { 0 };
     let elem = |k: usize, o: usize| -> &[f64] { values.get(k * stride + o..k * stride + o + width).unwrap_or(&[]) };
-    let tf = t as f32 as f64;
+    let tf = t;
     let after = times.partition_point(|&x| x <= tf);
     if after == 0 || after >= n || times[after - 1] == tf {
         let k = after.clamp(1, n) - 1;
@@ -246,6 +268,11 @@ impl NodeType for QuatCurve {
         &self.spec
     }
 
+    /// The keys as `compute` checks them: increasing times, 4 values per key.
+    fn validate(&self, inputs: &ValidateInputs<'_>) -> Vec<Problem> {
+        keys_problem(inputs, (self.key_time, self.key_value, self.interpolation), 4)
+    }
+
     fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
         let times = ctx.get(self.key_time);
         let values = ctx.get(self.key_value);
@@ -326,6 +353,16 @@ impl VectorCurve {
 impl NodeType for VectorCurve {
     fn spec(&self) -> &NodeSpec {
         &self.spec
+    }
+
+    /// The keys as `compute` checks them: increasing times, `width` values per key.
+    fn validate(&self, inputs: &ValidateInputs<'_>) -> Vec<Problem> {
+        match inputs.get(self.width) {
+            Some(w) if (1..=MAX_WIDTH as i64).contains(&w) => {
+                keys_problem(inputs, (self.key_time, self.key_value, self.interpolation), w as usize)
+            }
+            _ => Vec::new(),
+        }
     }
 
     fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
