@@ -257,15 +257,18 @@ fn viewer_in_headless_chromium() {
     assert_eq!(b.js("return window.__errors;"), json!([]));
     eprintln!("broken save to error overlay: {reload_ms:.0} ms (through the page's polling)");
 
-    // Playback for a second: frames advance and are drawn.
+    // Playback: frames advance and are drawn (no rate asserted: the machine may be loaded).
+    let played = Instant::now();
     b.js("window.sinew.framesShown = 0; window.sinew.setPlaying(true); return 0;");
-    std::thread::sleep(Duration::from_millis(1000));
+    b.wait("window.sinew.framesShown >= 3", "three frames of playback");
     let shown = b
         .js("window.sinew.setPlaying(false); return window.sinew.framesShown;")
         .as_u64()
         .unwrap();
-    assert!(shown >= 3, "{shown} frames shown in a second of playback");
-    eprintln!("biped playback in the test browser: {shown} frames in 1 s (debug build)");
+    eprintln!(
+        "biped playback in the test browser: {shown} frames in {:.2} s (debug build)",
+        played.elapsed().as_secs_f64()
+    );
 
     // A skinned mesh: the vertices drawn equal sinew eval's deformed mesh.
     let strip = root.join("graphs/tests/view/skinned_strip.ron");
