@@ -326,6 +326,7 @@ impl NodeSpec {
         b.time_outputs.extend(affects.time_outputs.iter().copied());
         b.time_dependent = !b.time_outputs.is_empty();
         b.dag = self.dag.clone();
+        b.status = self.status;
         let spec = b.build()?;
         if spec.groups()[..self.groups().len()] != self.groups()[..] {
             return Err(err(

@@ -52,7 +52,7 @@ pub use rig::{
 };
 pub use spec::{
     AttrId, AttrSpec, ComputeGroup, DagLink, DagSpec, Direction, Input, MirrorRole, MultiInput, MultiOutput, NodeSpec,
-    Output, SpecBuilder, Unit,
+    Output, SpecBuilder, StatusSpec, Unit,
 };
 pub use validate::{Problem, ValidateInputs};
 pub use value::{AttrType, AttrValue, ObjectRef, SharedData, Value};

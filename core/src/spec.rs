@@ -187,6 +187,19 @@ pub struct DagLink {
     /// Only link when the parent has this node type.
     pub parent_type: Option<String>,
 }
+/// The outputs through which a node reports how its evaluation went, for tools that
+/// show problems (the viewer marks the node): an enum output whose first choice (0)
+/// means "fine" and whose other choices name a problem (an IK's `unreachable`), and
+/// optionally a string output describing it. A value other than 0 is not an error:
+/// evaluation goes on and the outputs hold the node's best answer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StatusSpec {
+    /// The enum output; choice 0 means the evaluation went as asked.
+    pub status: AttrId,
+    /// A string output with the problem in words, if the node has one.
+    pub message: Option<AttrId>,
+}
+
 /// The specification of a node type.
 #[derive(Clone, Debug)]
 pub struct NodeSpec {
@@ -200,6 +213,8 @@ pub struct NodeSpec {
     pub time_dependent: bool,
     /// Parenting hookup, for transform-like nodes.
     pub dag: Option<DagSpec>,
+    /// The outputs that report problems of the evaluation (see [`StatusSpec`]).
+    pub status: Option<StatusSpec>,
     groups: Vec<ComputeGroup>,
     /// For each attribute: its group if it is an output; `u16::MAX` for inputs.
     group_of: Vec<u16>,
@@ -223,6 +238,7 @@ impl NodeSpec {
             time_dependent: false,
             time_outputs: Vec::new(),
             dag: None,
+            status: None,
             maya_names: Vec::new(),
             explicit: false,
             custom_start: None,
@@ -315,6 +331,7 @@ pub struct SpecBuilder {
     pub(crate) time_dependent: bool,
     pub(crate) time_outputs: Vec<AttrId>,
     pub(crate) dag: Option<DagSpec>,
+    pub(crate) status: Option<StatusSpec>,
     /// `(long, short)` pairs given to [`SpecBuilder::maya_names`], applied by `build`.
     maya_names: Vec<(String, String)>,
     /// Set for specs with custom attributes: `affects` and `time_outputs` are complete
@@ -571,6 +588,17 @@ impl SpecBuilder {
         self
     }
 
+    /// Declares the outputs that report how the node's evaluation went (see
+    /// [`StatusSpec`]): `status` must be an enum output whose choice 0 means fine,
+    /// `message` a string output.
+    pub fn status(&mut self, status: Output<i64>, message: Option<Output<std::sync::Arc<str>>>) -> &mut Self {
+        self.status = Some(StatusSpec {
+            status: status.id(),
+            message: message.map(|m| m.id()),
+        });
+        self
+    }
+
     /// Adds a parenting link (after [`SpecBuilder::dag`]): when this node is
     /// parented under a node that has an attribute `parent_attr` of the same
     /// type, that attribute is connected into `child_input`.
@@ -789,6 +817,16 @@ impl SpecBuilder {
                 return Err(err("dag hookup must name a matrix input and a matrix output".into()));
             }
         }
+        if let Some(st) = &self.status {
+            let is = |id: AttrId, ty: AttrType| {
+                self.attrs.get(id.index()).map(|a| (a.ty, a.direction, a.multi)) == Some((ty, Direction::Output, false))
+            };
+            if !is(st.status, AttrType::Enum) || st.message.is_some_and(|m| !is(m, AttrType::String)) {
+                return Err(err(
+                    "status must name a single enum output (and a single string output for its message)".into(),
+                ));
+            }
+        }
         let custom_start = self.custom_start.unwrap_or(self.attrs.len() as u16);
         Ok(NodeSpec {
             custom_start,
@@ -797,6 +835,7 @@ impl SpecBuilder {
             attrs: self.attrs,
             time_dependent: self.time_dependent,
             dag: self.dag,
+            status: self.status,
             groups,
             group_of,
             affected_groups,

@@ -112,3 +112,27 @@ fn short_name_collisions_are_spec_errors() {
     b.maya_names(&[("root", "root")]);
     assert!(b.build().is_ok());
 }
+
+#[test]
+fn status_outputs_must_be_an_enum_and_a_string() {
+    let mut b = NodeSpec::builder("solver");
+    let x = b.input("x", 0.0);
+    let st = b.output_enum("status", &["ok", "unreachable"], 0);
+    let msg = b.output("statusMessage", std::sync::Arc::<str>::from(""));
+    b.affects(&[x.id()], &[st.id(), msg.id()]);
+    b.status(st, Some(msg));
+    let s = b.build().unwrap();
+    assert_eq!(
+        s.status,
+        Some(StatusSpec {
+            status: st.id(),
+            message: Some(msg.id())
+        })
+    );
+    // A float output is no status.
+    let mut b = NodeSpec::builder("bad");
+    let f = b.output("status", 0.0);
+    b.status(Output::new(f.id()), None);
+    let e = b.build().unwrap_err().to_string();
+    assert!(e.contains("status must name a single enum output"), "{e}");
+}

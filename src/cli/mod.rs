@@ -323,13 +323,24 @@ fn view(
     addr: &str,
     open: bool,
     registry: &std::sync::Arc<sinew_core::Registry>,
-) -> Result<(), String> {
-    view_cmd::view(rig, addr, open, registry)
+    out: &mut Output<'_>,
+) -> Result<(), CliError> {
+    view_cmd::view(rig, addr, open, registry, &mut out.reborrow().eager(true))
 }
 
+/// The message of `sinew view` in a build without the viewer.
+pub const VIEW_NOT_BUILT: &str =
+    "this sinew was built without the viewer (the `view` feature); rebuild with default features: cargo build --release";
+
 #[cfg(not(feature = "view"))]
-fn view(_: &std::path::Path, _: &str, _: bool, _: &std::sync::Arc<sinew_core::Registry>) -> Result<(), String> {
-    Err("this sinew was built without the `view` feature; rebuild with default features".into())
+fn view(
+    _: &std::path::Path,
+    _: &str,
+    _: bool,
+    _: &std::sync::Arc<sinew_core::Registry>,
+    _: &mut Output<'_>,
+) -> Result<(), CliError> {
+    Err(VIEW_NOT_BUILT.into())
 }
 
 fn execute(cli: Cli, out: &mut Output<'_>) -> Result<(), CliError> {
@@ -395,7 +406,7 @@ fn execute(cli: Cli, out: &mut Output<'_>) -> Result<(), CliError> {
             };
             out.text(&rig_cmds::graph(&rig, format, &registry)?)?
         }
-        Command::View { rig, port, host, open } => view(&rig, &format!("{host}:{port}"), open, &registry)?,
+        Command::View { rig, port, host, open } => view(&rig, &format!("{host}:{port}"), open, &registry, out)?,
         Command::Profile {
             rig,
             frames,

@@ -73,7 +73,7 @@ pub fn watch(
             return Ok(());
         }
         watcher.set_files(&files);
-        if !watcher.wait() {
+        if watcher.wait().is_none() {
             return Err(CliError::from("the file watcher stopped".to_string()));
         }
     }

@@ -1,16 +1,27 @@
 //! `sinew view`: serves the browser viewer (the `sinew-view` crate) for a rig and
 //! reloads it whenever the rig or a file it uses changes.
+//!
+//! Status lines (the address, one line per reload) go through the command's [`Output`]
+//! like every command's results: a closed standard output ends the viewer quietly (exit
+//! 0) at its next line, any other write error ends it with exit code 1.
 
-use std::io::Write as _;
 use std::path::Path;
 use std::sync::Arc;
 
 use sinew_core::Registry;
 
+use super::output::{CliError, Output};
 use super::watch::FileWatcher;
 
-/// Serves `rig` on `addr` until interrupted; prints the page's address first.
-pub fn view(rig: &Path, addr: &str, open: bool, registry: &Arc<Registry>) -> Result<(), String> {
+/// Serves `rig` on `addr` until interrupted (or until standard output is closed); prints
+/// the page's address first.
+pub fn view(
+    rig: &Path,
+    addr: &str,
+    open: bool,
+    registry: &Arc<Registry>,
+    out: &mut Output<'_>,
+) -> Result<(), CliError> {
     let registry = registry.clone();
     let loader: sinew_view::Loader = Arc::new(move |p: &Path| crate::io::mesh_file::load_rig(p, &registry));
     let viewer = sinew_view::Viewer::start(sinew_view::ViewOptions {
@@ -19,36 +30,22 @@ pub fn view(rig: &Path, addr: &str, open: bool, registry: &Arc<Registry>) -> Res
         loader,
     })?;
     let url = viewer.url();
-    // Status lines go out with write results ignored: a closed stdout must not stop the server.
-    let say = |text: String| {
-        let mut out = std::io::stdout().lock();
-        let _ = writeln!(out, "{text}");
-        let _ = out.flush();
-    };
-    say(format!(
+    out.text(&format!(
         "sinew view: serving {} at {url} (Ctrl-C to stop)",
         rig.display()
-    ));
+    ))?;
     if open {
         open_browser(&url);
     }
     let mut watcher = FileWatcher::new()?;
     loop {
         watcher.set_files(&viewer.files());
-        if !watcher.wait() {
-            break;
-        }
-        let started = std::time::Instant::now();
-        let ok = viewer.reload();
-        say(format!(
-            "reloaded {} in {:.1} ms{}",
-            rig.display(),
-            started.elapsed().as_secs_f64() * 1e3,
-            if ok { "" } else { " (errors shown in the page)" }
-        ));
+        let Some(event_at) = watcher.wait() else {
+            return Err("the file watcher stopped".into());
+        };
+        let report = viewer.reload(event_at);
+        out.text(&report.to_string())?;
     }
-    viewer.wait();
-    Ok(())
 }
 
 fn open_browser(url: &str) {

@@ -9,7 +9,7 @@
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 use std::sync::mpsc::{channel, Receiver, RecvTimeoutError};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use notify::{RecommendedWatcher, RecursiveMode, Watcher};
 
@@ -74,20 +74,21 @@ impl FileWatcher {
     }
 
     /// Blocks until one of the files changes (then lets a burst of events settle).
-    /// Returns `false` if the watcher stopped.
-    pub fn wait(&self) -> bool {
-        loop {
+    /// Returns when the first event of the change arrived, or `None` if the watcher
+    /// stopped.
+    pub fn wait(&self) -> Option<Instant> {
+        let first = loop {
             match self.events.recv() {
-                Ok(e) if self.relevant(&e) => break,
+                Ok(e) if self.relevant(&e) => break Instant::now(),
                 Ok(_) => continue,
-                Err(_) => return false,
+                Err(_) => return None,
             }
-        }
+        };
         loop {
             match self.events.recv_timeout(SETTLE) {
                 Ok(_) => continue,
-                Err(RecvTimeoutError::Timeout) => return true,
-                Err(RecvTimeoutError::Disconnected) => return false,
+                Err(RecvTimeoutError::Timeout) => return Some(first),
+                Err(RecvTimeoutError::Disconnected) => return None,
             }
         }
     }

@@ -8,10 +8,13 @@ import { Drawing } from '/draw.js';
 import * as P from '/panels.js';
 
 const $ = P.$;
+/// Milliseconds since the Unix epoch (comparable with the server's and the tests' clocks).
+const epochMs = () => performance.timeOrigin + performance.now();
 const state = window.sinew = {
-  ready: false, revision: -1, scene: null, nodes: [], selected: null, frame: 1, start: 1, end: 1, fps: 24,
-  playing: false, buffer: null, errorNodes: new Set(), evalErrors: [], loadErrors: null, lastEdit: null,
-  framesShown: 0, rate: 0, evalUs: 0, errors: window.__errors,
+  ready: false, revision: -1, scene: null, sceneKey: null, nodes: [], selected: null, frame: 1, start: 1, end: 1,
+  fps: 24, playing: false, buffer: null, problems: [], problemNodes: new Map(), loadErrors: null, lastEdit: null,
+  framesShown: 0, renders: 0, rate: 0, evalUs: 0, errors: window.__errors, profile: null,
+  drawnRevision: -1, panelsRevision: -1, graphCenter: null, reloads: [],
 };
 
 // Three.js: renderer, camera, orbit/pan/zoom, grid and axes.
@@ -41,6 +44,12 @@ function resize() {
 }
 window.addEventListener('resize', resize);
 
+function render() {
+  controls.update();
+  renderer.render(scene3, camera);
+  state.renders++;
+}
+
 function frameAll() {
   if (!drawing) return;
   const box = drawing.bounds();
@@ -56,19 +65,37 @@ function frameAll() {
 }
 state.frameAll = frameAll;
 
+/// Fetches frame `f` evaluated by the server: its buffer, the evaluation time and the
+/// revision it belongs to; the frame's problems are fetched when there are any.
 async function fetchFrame(f) {
   const r = await fetch(`/api/frame?f=${f}`);
   if (!r.ok) return null;
-  state.evalUs = Number(r.headers.get('X-Eval-Us'));
-  const nerr = Number(r.headers.get('X-Eval-Errors'));
-  state.evalErrors = nerr > 0 ? await (await fetch('/api/errors')).json() : [];
-  return r.arrayBuffer();
+  const evalUs = Number(r.headers.get('X-Eval-Us'));
+  const revision = Number(r.headers.get('X-Revision'));
+  const nproblems = Number(r.headers.get('X-Eval-Errors'));
+  const [buf, problems] = await Promise.all([
+    r.arrayBuffer(), nproblems > 0 ? fetch('/api/errors').then((x) => x.json()) : Promise.resolve([])]);
+  return { buf, evalUs, revision, problems };
 }
 
-function applyErrors() {
-  state.errorNodes = new Set(state.evalErrors.map((e) => e.node));
-  if (drawing) drawing.highlight(state.selected, state.errorNodes);
-  P.renderOverlay(state.loadErrors, state.evalErrors);
+function applyProblems() {
+  state.problemNodes = new Map(state.problems.filter((p) => p.node).map((p) => [p.node, p.kind]));
+  if (drawing) drawing.highlight(state.selected, state.problemNodes);
+  P.renderOverlay(state.loadErrors, state.problems);
+  P.markNodeList(state);
+}
+
+/// Draws a fetched frame (the scene must be built).
+function showBuffer(fr, f) {
+  state.buffer = fr.buf;
+  state.frame = f;
+  state.evalUs = fr.evalUs;
+  state.problems = fr.problems;
+  drawing.update(fr.buf);
+  state.framesShown++;
+  applyProblems();
+  $('scrub').value = state.frame;
+  $('frameLabel').textContent = `frame ${state.frame}`;
 }
 
 let inFlight = false;
@@ -76,41 +103,45 @@ let inFlight = false;
 async function showFrame(f) {
   inFlight = true;
   try {
-    const buf = await fetchFrame(f);
-    if (buf && drawing) {
-      state.buffer = buf;
-      state.frame = f;
-      drawing.update(buf);
-      state.framesShown++;
-      applyErrors();
-    }
-    $('scrub').value = state.frame;
-    $('frameLabel').textContent = `frame ${state.frame}`;
+    const fr = await fetchFrame(f);
+    if (fr && drawing) showBuffer(fr, f);
   } finally { inFlight = false; }
 }
 state.setFrame = (f) => showFrame(Number(f));
 
-/// Loads (or reloads) the scene; keeps camera, selection, frame and edits.
-async function loadScene() {
-  const s = await (await fetch('/api/scene')).json();
+/// Loads (or reloads) the scene; keeps camera, selection, frame and edits. `timing` (a
+/// reload event's data) gets the page's own times: when the scene and the frame arrived,
+/// when the scene was redrawn, when the panels were done (epoch milliseconds).
+async function loadScene(timing) {
+  const t = timing || {};
+  t.receivedAt = t.receivedAt || epochMs();
+  const first = !state.scene;
+  // On a reload the frame to show is known: fetch it with the scene.
+  const [s, early] = await Promise.all([
+    fetch('/api/scene').then((r) => r.json()),
+    first ? Promise.resolve(null) : fetchFrame(state.frame)]);
+  t.sceneAt = epochMs();
   state.revision = s.revision;
   state.loadErrors = s.loadErrors;
   $('rig').textContent = s.rig;
-  if (!s.scene) { applyErrors(); state.ready = true; return; }
-  const first = !state.scene;
-  state.scene = s.scene; state.nodes = s.nodes; state.fps = s.fps; state.start = s.start; state.end = s.end;
+  if (!s.scene) { applyProblems(); finishReload(t, s.revision); state.ready = true; return; }
+  state.nodes = s.nodes; state.fps = s.fps; state.start = s.start; state.end = s.end;
   state.edits = s.edits;
   if (first) state.frame = s.frame;
   state.frame = Math.min(Math.max(state.frame, s.start), s.end);
-  $('scrub').min = s.start; $('scrub').max = s.end;
-  $('start').textContent = s.start; $('end').textContent = s.end;
-  const buf = await fetchFrame(state.frame);
-  if (drawing) drawing.dispose();
-  drawing = new Drawing(scene3);
-  drawing.build(s.scene, buf);
-  state.drawing = drawing;
-  state.buffer = buf;
-  drawing.update(buf);
+  let fr = early;
+  if (!fr || fr.revision !== s.revision || first) fr = await fetchFrame(state.frame);
+  t.frameAt = epochMs();
+  if (!fr) return;
+  // The same drawn things as before (a reload that changed values only): keep the objects.
+  if (!drawing || s.sceneKey !== state.sceneKey) {
+    if (drawing) drawing.dispose();
+    drawing = new Drawing(scene3);
+    drawing.build(s.scene, fr.buf);
+    state.drawing = drawing;
+  }
+  state.scene = s.scene; state.sceneKey = s.sceneKey;
+  showBuffer(fr, state.frame);
   state.jointCount = s.scene.items.filter((i) => i.kind === 'joint').length;
   if (first) {
     const box = drawing.bounds();
@@ -121,23 +152,35 @@ async function loadScene() {
     axes.scale.setScalar(step * 2);
     frameAll();
   }
+  render();
+  t.drawnAt = epochMs();
+  state.drawnRevision = s.revision;
+  $('scrub').min = s.start; $('scrub').max = s.end;
+  $('start').textContent = s.start; $('end').textContent = s.end;
   $('status').textContent = `${s.nodes.length} nodes · ${state.jointCount} joints · ${s.scene.meshes.length} meshes · loaded in ${s.loadMs.toFixed(1)} ms`;
-  applyErrors();
   P.renderNodeList(state, select);
   if (state.selected && !state.nodes.some((n) => n.name === state.selected)) state.selected = null;
-  if (state.selected) await select(state.selected); else P.renderGraph(null, select);
+  if (state.selected) await select(state.selected); else await P.renderGraph(null, select);
+  finishReload(t, s.revision);
   state.ready = true;
 }
 state.reload = loadScene;
+
+function finishReload(t, revision) {
+  t.panelsAt = epochMs();
+  t.pageRevision = revision;
+  state.panelsRevision = revision;
+  if (t.eventAt !== undefined) state.reloads.push(t);
+}
 
 /// Selects a node: attribute panel, graph panel, highlight.
 async function select(name) {
   state.selected = name;
   P.renderNodeList(state, select);
-  if (drawing) drawing.highlight(name, state.errorNodes);
-  const r = await fetch(`/api/node?name=${encodeURIComponent(name)}`);
+  if (drawing) drawing.highlight(name, state.problemNodes);
+  const [r] = await Promise.all([fetch(`/api/node?name=${encodeURIComponent(name)}`), P.renderGraph(name, select)]);
   if (r.ok) P.renderAttrs(await r.json(), setAttr);
-  await P.renderGraph(name, select);
+  state.graphCenter = name;
 }
 state.select = select;
 
@@ -146,14 +189,14 @@ async function setAttr(plug, text) {
   const r = await fetch('/api/set', { method: 'POST', body: JSON.stringify({ plug, value: text }) });
   const body = await r.json();
   if (!r.ok) { state.lastEdit = body; console.warn(body.error); return body; }
+  await showFrame(state.frame);
   state.lastEdit = body;
   P.showEditStats(body);
-  await showFrame(state.frame);
   return body;
 }
 state.setAttr = setAttr;
 
-// Picking: a click (not a drag) on a joint, control or marker selects it.
+// Picking: a click (not a drag) on a joint, control, curve or marker selects it.
 const ray = new THREE.Raycaster();
 let down = null;
 renderer.domElement.addEventListener('pointerdown', (e) => { down = [e.clientX, e.clientY]; });
@@ -162,10 +205,15 @@ renderer.domElement.addEventListener('pointerup', (e) => {
   const rect = renderer.domElement.getBoundingClientRect();
   const p = new THREE.Vector2((e.clientX - rect.left) / rect.width * 2 - 1, -(e.clientY - rect.top) / rect.height * 2 + 1);
   ray.setFromCamera(p, camera);
+  ray.params.Line.threshold = drawing.size * 0.3;
   const hit = ray.intersectObjects(drawing.pickables, false)[0];
+  // What was hit, for the tests: the node and the kind of object (a curve shape is a Line).
+  state.lastPick = hit ? { name: hit.object.userData.name, object: hit.object.type } : null;
   if (hit) select(hit.object.userData.name);
 });
-state.screenPosition = (name) => drawing?.screenPosition(name, camera, renderer.domElement.clientWidth, renderer.domElement.clientHeight);
+const canvasSize = () => [renderer.domElement.clientWidth, renderer.domElement.clientHeight];
+state.screenPosition = (name) => drawing?.screenPosition(name, camera, ...canvasSize());
+state.curveScreenPosition = (name, k) => drawing?.curveScreenPosition(name, k, camera, ...canvasSize());
 
 // Timeline: play at the rig's fps (frames the server cannot keep up with are skipped).
 let playStart = 0, playFrom = 1;
@@ -175,6 +223,29 @@ function setPlaying(on) {
   playStart = performance.now(); playFrom = state.frame;
 }
 state.setPlaying = setPlaying;
+
+/// Plays `n` frames as fast as they come (server evaluation, transfer, drawing, one
+/// animation frame each): the rate playback can reach, with the time of each part.
+state.measurePlayback = async (n) => {
+  setPlaying(false);
+  const len = state.end - state.start + 1;
+  let evalUs = 0, fetchMs = 0, drawMs = 0;
+  const t0 = performance.now();
+  for (let k = 0; k < n; k++) {
+    const f = state.start + ((state.frame - state.start + 1) % len);
+    const a = performance.now();
+    const fr = await fetchFrame(f);
+    const b = performance.now();
+    showBuffer(fr, f);
+    render();
+    await new Promise((r) => requestAnimationFrame(r));
+    drawMs += performance.now() - b; fetchMs += b - a; evalUs += fr.evalUs;
+  }
+  const ms = performance.now() - t0;
+  return { frames: n, fps: n * 1000 / ms, evalMs: evalUs / n / 1000, fetchMs: fetchMs / n, drawMs: drawMs / n,
+    frameBytes: state.buffer.byteLength };
+};
+
 $('play').onclick = () => setPlaying(!state.playing);
 $('prev').onclick = () => { setPlaying(false); showFrame(state.frame > state.start ? state.frame - 1 : state.end); };
 $('next').onclick = () => { setPlaying(false); showFrame(state.frame < state.end ? state.frame + 1 : state.start); };
@@ -195,7 +266,10 @@ document.querySelectorAll('#tabs button').forEach((b) => {
 $('runProfile').onclick = async () => {
   const r = await fetch('/api/profile');
   const p = await r.json();
-  if (r.ok) { state.profile = p; P.renderProfile(p); if (state.selected) P.renderGraph(state.selected, select); }
+  if (!r.ok) { console.warn(p.error); return; }
+  P.renderProfile(p, select);
+  if (state.selected) await P.renderGraph(state.selected, select);
+  state.profile = p;
 };
 
 let rateCount = 0, rateT0 = performance.now();
@@ -211,14 +285,18 @@ function tick(now) {
     rateCount = 0; rateT0 = now;
     $('rate').textContent = `${state.playing ? state.rate.toFixed(1) + ' fps · ' : ''}eval ${state.evalUs.toFixed(0)} µs · ${state.fps} fps rig`;
   }
-  controls.update();
-  renderer.render(scene3, camera);
+  render();
 }
 
-// Hot reload: the server sends `reload` when a file the rig uses changed.
+// Hot reload: the server sends `reload` (with its timings) when a file the rig uses changed.
+let reloading = Promise.resolve();
 function listen() {
   const es = new EventSource('/api/events');
-  es.addEventListener('reload', () => loadScene());
+  es.addEventListener('reload', (e) => {
+    const t = JSON.parse(e.data);
+    t.receivedAt = epochMs();
+    reloading = reloading.then(() => loadScene(t));
+  });
 }
 
 resize();

@@ -1,11 +1,13 @@
 // Scene objects: what sinew evaluated, drawn. Joints as Maya draws them (a sphere and a
-// wire pyramid to each child joint), transforms as locator crosses, markers as small
-// diamonds, meshes and curves from the positions sinew computed. The browser computes
+// wire pyramid to each child joint), transforms as locator crosses (or as their curve
+// shape, when they have one), markers as small diamonds, meshes and curves from the
+// positions sinew computed. The browser computes
 // nothing but normals for shading.
 import * as THREE from 'three';
 
 const JOINT_COLOR = 0x5aa0ff, BONE_COLOR = 0x7fb4ff, XFORM_COLOR = 0xf0c040, MARKER_COLOR = 0x40e0a0;
-const SELECT_COLOR = 0xffffff, ERROR_COLOR = 0xff3030;
+const SELECT_COLOR = 0xffffff, ERROR_COLOR = 0xff3030, WARN_COLOR = 0xffa020;
+export const COLORS = { select: SELECT_COLOR, error: ERROR_COLOR, warn: WARN_COLOR };
 
 export class Drawing {
   constructor(root) {
@@ -58,6 +60,9 @@ export class Drawing {
         o.shape = new THREE.LineSegments(g, new THREE.LineBasicMaterial({ color }));
       }
       o.color = color;
+      o.curves = [];
+      // A control drawn by its curve shape shows the curve, not a cross.
+      o.shape.visible = !it.shape;
       o.node.add(o.shape);
       const pick = new THREE.Mesh(pickGeo, pickMat);
       pick.scale.setScalar(this.size * (it.kind === 'transform' ? 1.5 : 0.5));
@@ -90,11 +95,19 @@ export class Drawing {
       this.group.add(mesh);
       this.meshes.push({ info: m, mesh });
     }
+    // Curves: a control's curve shape (sent in world space, placed by the control's world
+    // matrix) takes the control's colour and selects the control; other curves are blue.
     for (const c of scene.curves) {
       const g = new THREE.BufferGeometry();
       g.setAttribute('position', new THREE.BufferAttribute(new Float32Array(c.samples * 3), 3));
-      const line = new THREE.Line(g, new THREE.LineBasicMaterial({ color: 0x60d0ff }));
+      const owner = c.space === null ? null : this.items.find((o) => o.item.name === c.space);
+      const line = new THREE.Line(g, new THREE.LineBasicMaterial({ color: owner ? owner.color : 0x60d0ff }));
       line.frustumCulled = false;
+      if (owner) {
+        owner.curves.push(line);
+        line.userData.name = owner.item.name;
+        this.pickables.push(line);
+      }
       this.group.add(line);
       this.curves.push({ info: c, line });
     }
@@ -128,9 +141,11 @@ export class Drawing {
       const src = new Float64Array(buffer, c.info.offset, c.info.samples * 3);
       c.line.geometry.attributes.position.array.set(src);
       c.line.geometry.attributes.position.needsUpdate = true;
+      // Picking tests the bounding sphere first: keep it where the curve now is.
+      c.line.geometry.computeBoundingSphere();
     }
     for (const m of this.meshes) {
-      const src = new Float32Array(buffer.slice(m.info.offset, m.info.offset + m.info.vertices * 12));
+      const src = new Float32Array(buffer, m.info.offset, m.info.vertices * 3);
       m.mesh.geometry.attributes.position.array.set(src);
       m.mesh.geometry.attributes.position.needsUpdate = true;
       m.mesh.geometry.computeVertexNormals();
@@ -139,13 +154,25 @@ export class Drawing {
     void m4;
   }
 
-  /// Colours: the selection white, nodes with errors red.
-  highlight(selected, errorNodes) {
+  /// Colours: the selection white, nodes with problems red (failures, non-finite values)
+  /// or orange (a status such as an IK that cannot reach). `problems`: node → kind.
+  highlight(selected, problems) {
+    const colorOf = (name, normal) => {
+      const kind = problems.get(name);
+      return kind === undefined ? normal : kind === 'status' ? WARN_COLOR : ERROR_COLOR;
+    };
     for (const o of this.items) {
-      const c = o.item.name === selected ? SELECT_COLOR : errorNodes.has(o.item.name) ? ERROR_COLOR : o.color;
+      const c = o.item.name === selected ? SELECT_COLOR : colorOf(o.item.name, o.color);
       o.shape.material.color.setHex(c);
-      for (const b of o.bones) b.material.color.setHex(errorNodes.has(o.item.name) ? ERROR_COLOR : BONE_COLOR);
+      for (const l of o.curves) l.material.color.setHex(c);
+      for (const b of o.bones) b.material.color.setHex(colorOf(o.item.name, BONE_COLOR));
     }
+  }
+
+  /// The colour a drawn node is shown in (tests read it), `null` when it is not drawn.
+  colorOf(name) {
+    const o = this.items.find((x) => x.item.name === name);
+    return o ? o.shape.material.color.getHex() : null;
   }
 
   /// World-space bounds of everything drawn.
@@ -162,7 +189,20 @@ export class Drawing {
   screenPosition(name, camera, width, height) {
     const o = this.items.find((x) => x.item.name === name);
     if (!o) return null;
-    const v = new THREE.Vector3().setFromMatrixPosition(o.node.matrix).project(camera);
-    return { x: (v.x + 1) / 2 * width, y: (1 - v.y) / 2 * height };
+    return screenOf(new THREE.Vector3().setFromMatrixPosition(o.node.matrix), camera, width, height);
   }
+
+  /// Where sample `k` of the curve drawn for node `name` is on screen (CSS pixels in the canvas).
+  curveScreenPosition(name, k, camera, width, height) {
+    const c = this.curves.find((x) => x.info.name === name);
+    if (!c) return null;
+    const p = new THREE.Vector3().fromBufferAttribute(c.line.geometry.attributes.position, k);
+    return screenOf(p, camera, width, height);
+  }
+}
+
+/// A world point on screen: CSS pixels from the canvas's top left.
+function screenOf(p, camera, width, height) {
+  const v = p.clone().project(camera);
+  return { x: (v.x + 1) / 2 * width, y: (1 - v.y) / 2 * height };
 }

@@ -8,28 +8,59 @@ function esc(s) {
   return String(s).replace(/[&<>"]/g, (c) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;' }[c]));
 }
 
+/// CSS class of a node with a problem: `err` for failures and non-finite values, `warn`
+/// for a status (an IK that cannot reach).
+export function problemClass(kind) {
+  return kind === undefined ? '' : kind === 'status' ? 'warn' : 'err';
+}
+
 export function renderNodeList(state, onPick) {
   const q = $('search').value.trim().toLowerCase();
   const ul = $('nodes');
   ul.innerHTML = '';
-  const errs = state.errorNodes;
   for (const n of state.nodes) {
     if (q && !n.name.toLowerCase().includes(q) && !n.type.toLowerCase().includes(q)) continue;
     const li = document.createElement('li');
     li.innerHTML = `${esc(n.name)}<span class="t">${esc(n.type)}</span>`;
     li.dataset.node = n.name;
     if (n.name === state.selected) li.classList.add('sel');
-    if (errs.has(n.name)) li.classList.add('err');
     li.onclick = () => onPick(n.name);
     ul.appendChild(li);
   }
+  markNodeList(state);
 }
 
-/// Slider range for a value: angles ±180, otherwise around the value.
+/// Marks the nodes with problems in the node list (and clears the others).
+export function markNodeList(state) {
+  for (const li of $('nodes').children) {
+    const c = problemClass(state.problemNodes.get(li.dataset.node));
+    li.classList.toggle('err', c === 'err');
+    li.classList.toggle('warn', c === 'warn');
+    li.title = c ? state.problems.filter((p) => p.node === li.dataset.node).map((p) => p.message).join('\n') : '';
+  }
+}
+
+/// Slider range for a value: the attribute's soft range, else its hard limits, else
+/// ±180 for angles, else around the value (within the hard limits either way).
 function range(attr, v) {
-  if (attr.unit === 'Degrees') return [-180, 180, 0.1];
-  const span = Math.max(1, Math.abs(v) * 2);
-  return [v - span, v + span, span / 500];
+  let lo, hi;
+  if (attr.softMin !== null || attr.softMax !== null) {
+    lo = attr.softMin ?? Math.min(v, attr.softMax - 1);
+    hi = attr.softMax ?? Math.max(v, attr.softMin + 1);
+  } else if (attr.min !== null && attr.max !== null) {
+    lo = attr.min; hi = attr.max;
+  } else if (attr.unit === 'Degrees') {
+    lo = -180; hi = 180;
+  } else {
+    const span = Math.max(1, Math.abs(v) * 2);
+    lo = v - span; hi = v + span;
+  }
+  if (attr.min !== null) lo = Math.max(lo, attr.min);
+  if (attr.max !== null) hi = Math.min(hi, attr.max);
+  // A round step (a power of ten, about 1/500 of the range): a slider snaps to
+  // lo + k·step, so typed round values stay exact (40° with a 0.1 step, not 39.96).
+  const step = hi > lo ? 10 ** Math.floor(Math.log10((hi - lo) / 500)) : 1;
+  return [lo, hi, step];
 }
 
 function fmt(v) {
@@ -48,10 +79,11 @@ export function renderAttrs(node, send) {
     row.className = 'row' + (a.input ? '' : ' out');
     row.title = `${a.plug}: ${a.type}${a.keyable ? ', keyable' : ''}${a.source ? ' ← ' + a.source : ''}\n${a.doc}`;
     row.innerHTML = `<label>${esc(a.name)}${a.index !== null ? '[' + a.index + ']' : ''}</label>`;
+    if (a.custom) row.classList.add('custom');
     const ctl = document.createElement('div');
     ctl.className = 'ctl';
     if (a.editable && (a.type === 'float' || a.type === 'int')) {
-      ctl.append(...numberControl(a, a.value, (v) => send(a.plug, String(v)), a.keyable));
+      ctl.append(...numberControl(a, a.value, (v) => send(a.plug, String(v)), a.keyable || a.custom));
     } else if (a.editable && a.type === 'vec3' && Array.isArray(a.value)) {
       const cur = a.value.slice();
       const sub = document.createElement('div');
@@ -59,7 +91,7 @@ export function renderAttrs(node, send) {
       for (let k = 0; k < 3; k++) {
         const line = document.createElement('div');
         line.className = 'ctl';
-        line.append(...numberControl(a, cur[k], (v) => { cur[k] = v; send(a.plug, `(${cur.join(', ')})`); }, a.keyable, k));
+        line.append(...numberControl(a, cur[k], (v) => { cur[k] = v; send(a.plug, `(${cur.join(', ')})`); }, a.keyable || a.custom, k));
         sub.append(line);
       }
       ctl.append(sub);
@@ -92,6 +124,8 @@ function numberControl(attr, value, onChange, slider, component) {
   num.type = 'number';
   num.value = value;
   num.step = 'any';
+  if (attr.min !== null) num.min = attr.min;
+  if (attr.max !== null) num.max = attr.max;
   const plugId = attr.plug + (component === undefined ? '' : '#' + component);
   num.dataset.plug = plugId;
   const out = [];
@@ -115,17 +149,25 @@ export function showEditStats(r) {
   if (el) el.textContent = `edit: ${r.computes} computes, ${r.cutoffs} cut off, ${r.ms.toFixed(2)} ms (lazy graph)`;
 }
 
-export function renderOverlay(loadErrors, evalErrors) {
+/// Load errors and evaluation failures (failed computes, non-finite values) over the view;
+/// statuses (an IK that cannot reach: the node still gave its best answer) on a line at
+/// the bottom that does not hide the scene. Every problem also marks its node.
+export function renderOverlay(loadErrors, problems) {
   const o = $('overlay');
   const parts = [];
   if (loadErrors && loadErrors.length) {
     parts.push('The rig failed to load; showing the last good scene.\n\n' + loadErrors.map((e) => e.text).join('\n\n'));
   }
-  if (evalErrors && evalErrors.length) {
-    parts.push('Evaluation errors:\n' + evalErrors.map((e) => `${e.node}: ${e.message}`).join('\n'));
+  const failures = (problems || []).filter((p) => p.kind !== 'status');
+  if (failures.length) {
+    const label = { error: 'error', nonFinite: 'not finite' };
+    parts.push('Evaluation problems:\n' + failures.map((p) => `${p.node} (${label[p.kind] || p.kind}): ${p.message}`).join('\n'));
   }
   o.hidden = parts.length === 0;
   o.textContent = parts.join('\n\n');
+  const notes = (problems || []).filter((p) => p.kind === 'status');
+  $('notes').hidden = notes.length === 0;
+  $('notes').textContent = notes.map((p) => `${p.node}: ${p.message}`).join('\n');
 }
 
 export async function renderGraph(selected, onPick) {
@@ -136,12 +178,17 @@ export async function renderGraph(selected, onPick) {
   div.querySelectorAll('[data-node]').forEach((g) => { g.onclick = () => onPick(g.dataset.node); });
 }
 
-export function renderProfile(p) {
-  const row = (r, costly) => `<tr class="${costly ? 'costly' : ''}"><td>${esc(r.name)}</td><td>${r.count}</td>
+/// The profile table (from /api/profile): per node type and per node, sorted by total
+/// time; costly nodes (at least half the costliest's share) highlighted; a node row
+/// selects its node.
+export function renderProfile(p, onPick) {
+  const row = (r, costly, node) => `<tr class="${costly ? 'costly' : ''}"${node ? ` data-node="${esc(r.name)}"` : ''}>
+    <td>${esc(r.name)}</td><td>${r.count}</td>
     <td>${r.totalUs.toFixed(1)}</td><td>${r.meanUs.toFixed(2)}</td><td>${(r.share * 100).toFixed(1)}%</td></tr>`;
   const head = '<tr><th>name</th><th>count</th><th>total µs</th><th>mean µs</th><th>share</th></tr>';
   const top = p.nodes.length ? p.nodes[0].share : 0;
   $('profileTable').innerHTML = `<p>${p.frames} frames, ${p.perFrameUs.toFixed(1)} µs of steps per frame</p>
-    <h4>by node type</h4><table>${head}${p.types.map((r) => row(r, false)).join('')}</table>
-    <h4>by node</h4><table>${head}${p.nodes.slice(0, 60).map((r) => row(r, r.share >= top * 0.5)).join('')}</table>`;
+    <h4>by node type</h4><table class="types">${head}${p.types.map((r) => row(r, false, false)).join('')}</table>
+    <h4>by node</h4><table class="nodes">${head}${p.nodes.slice(0, 60).map((r) => row(r, r.share >= top * 0.5, true)).join('')}</table>`;
+  $('profileTable').querySelectorAll('tr[data-node]').forEach((tr) => { tr.onclick = () => onPick(tr.dataset.node); });
 }

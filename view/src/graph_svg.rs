@@ -4,7 +4,7 @@
 //! downstream a few levels). Each node is a box with its name and type, carrying
 //! `data-node="name"` so a page can make it clickable; each edge is labelled with the
 //! plugs it connects. Profiled nodes are shaded by their share of the frame, nodes with
-//! evaluation errors are outlined in red.
+//! evaluation errors are outlined in red, nodes whose status reports a problem in orange.
 
 use std::collections::{BTreeMap, HashMap, HashSet, VecDeque};
 
@@ -29,8 +29,10 @@ pub struct SvgOptions<'a> {
     pub depth: usize,
     /// Shade nodes by their share of the profiled frame.
     pub profile: Option<&'a ProfileTable>,
-    /// Nodes with evaluation errors.
+    /// Nodes with evaluation errors (failures, non-finite values): outlined in red.
     pub errors: &'a [&'a str],
+    /// Nodes whose status reports a problem (an IK that cannot reach): outlined in orange.
+    pub warnings: &'a [&'a str],
 }
 
 /// The node-level edges of `graph`: for each (source node, destination node), the plug
@@ -129,6 +131,10 @@ pub fn render(graph: &Graph, opts: &SvgOptions<'_>) -> Result<String, String> {
             look.line_color = Color::fast("red");
             look.line_width = 3;
             class.push_str(" error");
+        } else if opts.warnings.contains(&name) {
+            look.line_color = Color::fast("orange");
+            look.line_width = 3;
+            class.push_str(" warn");
         }
         if opts.center == Some(name) {
             look.line_color = Color::fast("blue");

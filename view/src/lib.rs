@@ -9,12 +9,13 @@
 
 mod assets;
 pub mod graph_svg;
+pub mod problems;
 pub mod scene;
 mod server;
 pub mod session;
 
-pub use server::{ViewOptions, Viewer};
-pub use session::{Loader, Session};
+pub use server::{ReloadReport, ViewOptions, Viewer};
+pub use session::{Loader, ReloadTimes, Session};
 
 use serde_json::json;
 use sinew_core::ProfileTable;

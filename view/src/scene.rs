@@ -11,9 +11,12 @@
 //! endian. Mesh positions are `f32` in sinew, so the page gets exactly what sinew
 //! computed.
 
-use glam::DVec3;
+use std::collections::HashSet;
+
+use crate::problems::Problem;
+use glam::{DMat4, DVec3};
 use serde_json::json;
-use sinew_core::{AttrType, Curve, CurveForm, Direction, Graph, Instance, NodeId, PlugHandle, Program, Value};
+use sinew_core::{AttrId, AttrType, Curve, CurveForm, Direction, Graph, Instance, NodeId, PlugHandle, Program, Value};
 
 /// Non-DAG node types drawn as a locator at an output matrix: (type, matrix output).
 pub const MARKER_TYPES: &[(&str, &str)] = &[("follicle", "outMatrix")];
@@ -55,6 +58,8 @@ pub struct MatrixItem {
     pub radius: f64,
     /// The plug read each frame.
     pub plug: String,
+    /// Whether a curve shape draws it (then it is drawn by its shape, not as a cross).
+    pub shape: bool,
 }
 
 /// A drawn mesh or curve.
@@ -68,6 +73,10 @@ pub struct GeoItem {
     pub count: usize,
     /// Mesh triangles (empty for curves).
     pub triangles: Vec<[u32; 3]>,
+    /// The drawn item (index into [`Scene::items`]) whose world matrix places this
+    /// geometry, when the geometry is in its object space (a control's curve shape); the
+    /// samples are sent transformed by it. `None`: world space.
+    pub space: Option<usize>,
 }
 
 /// Everything the page draws, and where each frame's values come from.
@@ -81,32 +90,46 @@ pub struct Scene {
     pub curves: Vec<GeoItem>,
 }
 
-fn outputs_of(graph: &Graph, id: NodeId, ty: AttrType) -> Vec<(String, bool)> {
-    let Some(spec) = graph.node_spec(id) else {
-        return Vec::new();
-    };
-    let name = graph.node_name(id).unwrap_or_default().to_string();
-    let connected: std::collections::HashSet<String> = graph
-        .connections()
-        .iter()
-        .filter(|(s, _)| s.node == id)
-        .map(|(s, _)| spec.attr(s.attr).name.clone())
-        .collect();
-    spec.attrs
-        .iter()
-        .filter(|a| a.direction == Direction::Output && a.ty == ty && !a.multi)
-        .map(|a| (format!("{name}.{}", a.name), connected.contains(&a.name)))
-        .collect()
-}
+/// Output attributes that feed something, per node (from one pass over the connections).
+type Feeding = HashSet<(NodeId, AttrId)>;
 
-/// The plug of `id`'s final output of type `ty`: its last such output when none of them
-/// feeds anything.
-fn final_output(graph: &Graph, id: NodeId, ty: AttrType) -> Option<String> {
-    let outs = outputs_of(graph, id, ty);
-    if outs.iter().any(|(_, connected)| *connected) {
+/// The name of `id`'s final output of type `ty`: its last single output of that type,
+/// when none of them feeds anything.
+fn final_output(graph: &Graph, feeding: &Feeding, id: NodeId, ty: AttrType) -> Option<AttrId> {
+    let spec = graph.node_spec(id)?;
+    let outs: Vec<AttrId> = (0..spec.attrs.len() as u16)
+        .map(AttrId)
+        .filter(|&a| {
+            let a = spec.attr(a);
+            a.direction == Direction::Output && a.ty == ty && !a.multi
+        })
+        .collect();
+    if outs.iter().any(|&a| feeding.contains(&(id, a))) {
         return None;
     }
-    outs.into_iter().last().map(|(p, _)| p)
+    outs.last().copied()
+}
+
+/// The DAG node whose space the output `out` of `id` is in: the source of a single matrix
+/// input of `id` that is a DAG node's world matrix and that does not affect `out` (a
+/// shape's geometry in object space, placed by its transform's world matrix, as a
+/// nurbsCurve's `local` with its `worldMatrix` connected from a control). `None` when the
+/// output is in world space.
+fn space_of(graph: &Graph, id: NodeId, out: AttrId) -> Option<NodeId> {
+    let spec = graph.node_spec(id)?;
+    let group = spec.group_of(out)?;
+    spec.attrs.iter().enumerate().find_map(|(i, a)| {
+        let attr = AttrId(i as u16);
+        if a.direction != Direction::Input || a.ty != AttrType::Matrix || a.multi {
+            return None;
+        }
+        if spec.groups_affected_by(attr).contains(&group) {
+            return None;
+        }
+        let src = graph.source_of(sinew_core::Plug::new(id, attr))?;
+        let src_spec = graph.node_spec(src.node)?;
+        (src_spec.dag.as_ref()?.world_matrix == src.attr && src.component.is_none()).then_some(src.node)
+    })
 }
 
 impl Scene {
@@ -147,14 +170,21 @@ impl Scene {
                 parent: None,
                 radius,
                 plug,
+                shape: false,
             });
         }
         for (&id, &i) in &index {
             scene.items[i].parent = graph.parent_of(id).and_then(|p| index.get(&p).copied());
         }
+        let feeding: Feeding = graph.connections().iter().map(|(s, _)| (s.node, s.attr)).collect();
         for &id in &nodes {
             let name = graph.node_name(id).unwrap_or_default().to_string();
-            if let Some(plug) = final_output(graph, id, AttrType::Mesh) {
+            let plug = |graph: &Graph, a: AttrId| {
+                let attr = graph.node_spec(id).map(|s| s.attr(a).name.as_str()).unwrap_or_default();
+                format!("{name}.{attr}")
+            };
+            if let Some(out) = final_output(graph, &feeding, id, AttrType::Mesh) {
+                let plug = plug(graph, out);
                 if let Ok(Value::Mesh(m)) = graph.get_path(&plug) {
                     if !m.positions.is_empty() {
                         scene.meshes.push(GeoItem {
@@ -162,19 +192,26 @@ impl Scene {
                             plug,
                             count: m.positions.len(),
                             triangles: m.triangles.clone(),
+                            space: None,
                         });
                     }
                 }
             }
-            if let Some(plug) = final_output(graph, id, AttrType::Curve) {
+            if let Some(out) = final_output(graph, &feeding, id, AttrType::Curve) {
+                let plug = plug(graph, out);
+                let space = space_of(graph, id, out).and_then(|n| index.get(&n).copied());
                 if let Ok(Value::Curve(c)) = graph.get_path(&plug) {
                     let count = sample_count(&c);
                     if count > 0 {
+                        if let Some(i) = space {
+                            scene.items[i].shape = true;
+                        }
                         scene.curves.push(GeoItem {
                             name,
                             plug,
                             count,
                             triangles: Vec::new(),
+                            space,
                         });
                     }
                 }
@@ -199,7 +236,8 @@ impl Scene {
             .map(|c| {
                 let o = offset;
                 offset += c.count * 24;
-                json!({ "name": c.name, "plug": c.plug, "samples": c.count, "offset": o })
+                let space = c.space.map(|i| self.items[i].name.as_str());
+                json!({ "name": c.name, "plug": c.plug, "samples": c.count, "offset": o, "space": space })
             })
             .collect();
         let meshes: Vec<_> = self
@@ -219,7 +257,7 @@ impl Scene {
             .iter()
             .map(|i| {
                 json!({ "name": i.name, "kind": i.kind.name(), "parent": i.parent,
-                        "radius": i.radius, "plug": i.plug })
+                        "radius": i.radius, "plug": i.plug, "shape": i.shape })
             })
             .collect();
         json!({ "items": items, "curves": curves, "meshes": meshes, "frameBytes": self.frame_len() })
@@ -239,8 +277,9 @@ impl Scene {
         self.write_values(value, out);
     }
 
-    /// Writes a frame from the lazy graph (what an edit pulls).
-    pub fn write_frame_lazy(&self, graph: &mut Graph, out: &mut Vec<u8>) -> Vec<(String, String)> {
+    /// Writes a frame from the lazy graph (what an edit pulls); returns the errors of
+    /// the pulls.
+    pub fn write_frame_lazy(&self, graph: &mut Graph, out: &mut Vec<u8>) -> Vec<Problem> {
         let mut errors = Vec::new();
         let plugs: Vec<&String> = self
             .items
@@ -253,7 +292,10 @@ impl Scene {
             .map(|p| match graph.get_path(p) {
                 Ok(v) => Some(v),
                 Err(e) => {
-                    errors.push((p.split('.').next().unwrap_or_default().to_string(), e.to_string()));
+                    let problem = Problem::from_error(&e);
+                    if !errors.contains(&problem) {
+                        errors.push(problem);
+                    }
                     None
                 }
             })
@@ -266,19 +308,26 @@ impl Scene {
         out.clear();
         out.reserve(self.frame_len());
         let mut k = 0;
+        let mut matrices = Vec::with_capacity(self.items.len());
         for _ in &self.items {
             let m = match value(k) {
-                Some(Value::Matrix(m)) => m.to_cols_array(),
-                _ => [0.0; 16],
+                Some(Value::Matrix(m)) => m,
+                _ => DMat4::ZERO,
             };
-            m.iter().for_each(|x| out.extend_from_slice(&x.to_le_bytes()));
+            m.to_cols_array()
+                .iter()
+                .for_each(|x| out.extend_from_slice(&x.to_le_bytes()));
+            matrices.push(m);
             k += 1;
         }
         for c in &self.curves {
-            let pts = match value(k) {
+            let mut pts = match value(k) {
                 Some(Value::Curve(curve)) => sample_curve(&curve),
                 _ => Vec::new(),
             };
+            if let Some(m) = c.space.and_then(|i| matrices.get(i)) {
+                pts.iter_mut().for_each(|p| *p = m.transform_point3(*p));
+            }
             for i in 0..c.count {
                 let p = pts.get(i).copied().unwrap_or(DVec3::ZERO);
                 p.to_array()

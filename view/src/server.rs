@@ -11,11 +11,11 @@ use std::io::{Read, Write};
 use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::sync::{Arc, Condvar, Mutex, MutexGuard};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use tiny_http::{Header, Method, Request, Response, Server};
 
-use crate::session::{Loader, Session};
+use crate::session::{Loader, ReloadTimes, Session};
 
 /// Worker threads answering requests (event streams get a thread each).
 const WORKERS: usize = 4;
@@ -32,8 +32,51 @@ pub struct ViewOptions {
 
 struct Shared {
     session: Mutex<Session>,
-    revision: Mutex<u64>,
+    /// The last reload: its revision and the event data the pages get.
+    revision: Mutex<(u64, String)>,
     changed: Condvar,
+}
+
+/// What a reload did and where its time went, from the first file event on.
+#[derive(Clone, Debug)]
+pub struct ReloadReport {
+    /// The rig file.
+    pub rig: PathBuf,
+    /// The session's revision after the reload.
+    pub revision: u64,
+    /// From the first file event to the start of the reload: the watcher's wait for a
+    /// burst of events to settle (milliseconds).
+    pub settle_ms: f64,
+    /// The reload itself, by phase.
+    pub times: ReloadTimes,
+    /// When the first file event arrived, in milliseconds since the Unix epoch (pages
+    /// and tests compare it with their own clocks).
+    pub event_epoch_ms: f64,
+}
+
+impl std::fmt::Display for ReloadReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let t = &self.times;
+        write!(
+            f,
+            "reloaded {} in {:.1} ms (settle {:.1}, load {:.1}, scene {:.1}, compile {:.1}){}",
+            self.rig.display(),
+            self.settle_ms + t.total_ms,
+            self.settle_ms,
+            t.load_ms,
+            t.scene_ms,
+            t.compile_ms,
+            if t.ok { "" } else { " (errors shown in the page)" }
+        )
+    }
+}
+
+/// `t` in milliseconds since the Unix epoch.
+fn epoch_ms(t: Instant) -> f64 {
+    let now = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .unwrap_or_default();
+    (now.as_secs_f64() - t.elapsed().as_secs_f64()) * 1e3
 }
 
 impl Shared {
@@ -62,7 +105,7 @@ impl Viewer {
         let revision = session.revision;
         let shared = Arc::new(Shared {
             session: Mutex::new(session),
-            revision: Mutex::new(revision),
+            revision: Mutex::new((revision, String::new())),
             changed: Condvar::new(),
         });
         let server = Arc::new(server);
@@ -84,16 +127,30 @@ impl Viewer {
         format!("http://{}/", self.addr)
     }
 
-    /// Loads the rig again and tells the pages; returns whether it loaded.
-    pub fn reload(&self) -> bool {
-        let (ok, rev) = {
+    /// Loads the rig again and tells the pages. `event_at` is when the file event that
+    /// asked for it arrived (the report measures from there).
+    pub fn reload(&self, event_at: Instant) -> ReloadReport {
+        let settle_ms = event_at.elapsed().as_secs_f64() * 1e3;
+        let (times, revision, rig) = {
             let mut s = self.shared.session();
-            let ok = s.reload();
-            (ok, s.revision)
+            let times = s.reload();
+            (times, s.revision, s.path().to_path_buf())
         };
-        *self.shared.revision.lock().unwrap_or_else(|p| p.into_inner()) = rev;
+        let report = ReloadReport {
+            rig,
+            revision,
+            settle_ms,
+            times,
+            event_epoch_ms: epoch_ms(event_at),
+        };
+        let data = serde_json::json!({
+            "revision": revision, "ok": times.ok, "eventAt": report.event_epoch_ms,
+            "reloadedAt": epoch_ms(Instant::now()), "settleMs": settle_ms, "loadMs": times.load_ms,
+            "sceneMs": times.scene_ms, "compileMs": times.compile_ms,
+        });
+        *self.shared.revision.lock().unwrap_or_else(|p| p.into_inner()) = (revision, data.to_string());
         self.shared.changed.notify_all();
-        ok
+        report
     }
 
     /// The files the rig depends on (what to watch).
@@ -174,16 +231,17 @@ fn handle(shared: &Arc<Shared>, mut request: Request) {
                 return;
             };
             let mut bytes = Vec::new();
-            let (us, errors) = {
+            let (us, errors, revision) = {
                 let mut s = shared.session();
                 let us = s.frame(frame, &mut bytes);
-                (us, s.eval_errors_json())
+                (us, s.eval_errors_json(), s.revision)
             };
             match us {
                 Some(us) => Response::from_data(bytes)
                     .with_header(header("Content-Type", "application/octet-stream"))
                     .with_header(header("Cache-Control", "no-store"))
                     .with_header(header("X-Eval-Us", &format!("{us:.1}")))
+                    .with_header(header("X-Revision", &revision.to_string()))
                     .with_header(header(
                         "X-Eval-Errors",
                         &errors.as_array().map(|a| a.len()).unwrap_or(0).to_string(),
@@ -245,12 +303,13 @@ fn handle(shared: &Arc<Shared>, mut request: Request) {
     let _ = request.respond(response);
 }
 
-/// Server-sent events: a `reload` event with the new revision whenever the rig is
-/// reloaded, and a comment every 15 s to keep the connection open.
+/// Server-sent events: a `reload` event whenever the rig is reloaded, its data the
+/// reload's JSON (revision, `ok`, the file event's time in epoch milliseconds and the
+/// phases' times), and a comment every 15 s to keep the connection open.
 fn event_stream(shared: &Arc<Shared>, request: Request) {
     let mut w = request.into_writer();
     let head = "HTTP/1.1 200 OK\r\nContent-Type: text/event-stream\r\nCache-Control: no-store\r\nConnection: keep-alive\r\n\r\n";
-    let mut seen = *shared.revision.lock().unwrap_or_else(|p| p.into_inner());
+    let mut seen = shared.revision.lock().unwrap_or_else(|p| p.into_inner()).0;
     if w.write_all(head.as_bytes())
         .and_then(|_| w.write_all(b": connected\n\n"))
         .and_then(|_| w.flush())
@@ -259,17 +318,17 @@ fn event_stream(shared: &Arc<Shared>, request: Request) {
         return;
     }
     loop {
-        let rev = {
+        let (rev, data) = {
             let guard = shared.revision.lock().unwrap_or_else(|p| p.into_inner());
             let (guard, _) = shared
                 .changed
-                .wait_timeout_while(guard, Duration::from_secs(15), |r| *r == seen)
+                .wait_timeout_while(guard, Duration::from_secs(15), |r| r.0 == seen)
                 .unwrap_or_else(|p| p.into_inner());
-            *guard
+            guard.clone()
         };
         let msg = if rev != seen {
             seen = rev;
-            format!("event: reload\ndata: {rev}\n\n")
+            format!("event: reload\ndata: {data}\n\n")
         } else {
             ": ping\n\n".to_string()
         };

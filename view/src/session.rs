@@ -13,10 +13,31 @@ use sinew_core::{
     Time,
 };
 
+use crate::problems::{failing_nodes, Checks, Problem, ProblemKind};
 use crate::scene::Scene;
 
 /// Loads a rig file (the facade passes its loader, which resolves mesh files).
 pub type Loader = Arc<dyn Fn(&Path) -> Result<LoadedRig, Diagnostics> + Send + Sync>;
+
+/// Where the time of a reload went (milliseconds).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ReloadTimes {
+    /// Whether the rig loaded (else its errors are shown over the last good scene).
+    pub ok: bool,
+    /// Reading, parsing and expanding the rig into a graph (the loader).
+    pub load_ms: f64,
+    /// Re-applying the page's edits and deciding what is drawn (meshes are evaluated once
+    /// for their sizes).
+    pub scene_ms: f64,
+    /// Compiling the program for playback.
+    pub compile_ms: f64,
+    /// The whole reload.
+    pub total_ms: f64,
+}
+
+fn ms_since(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}
 
 /// A loaded rig ready to draw.
 struct Loaded {
@@ -24,6 +45,8 @@ struct Loaded {
     program: Arc<Program>,
     instance: Instance,
     handles: Vec<Option<PlugHandle>>,
+    /// What is checked after each frame (non-finite outputs, statuses).
+    checks: Checks,
     scene: Scene,
     fps: f64,
     range: (f64, f64),
@@ -41,7 +64,7 @@ pub struct Session {
     pub revision: u64,
     load_errors: Option<Diagnostics>,
     load_ms: f64,
-    eval_errors: Vec<(String, String)>,
+    problems: Vec<Problem>,
     frame: f64,
     profile: Option<ProfileTable>,
 }
@@ -77,7 +100,7 @@ impl Session {
             revision: 0,
             load_errors: None,
             load_ms: 0.0,
-            eval_errors: Vec::new(),
+            problems: Vec::new(),
             frame: 1.0,
             profile: None,
         };
@@ -107,27 +130,38 @@ impl Session {
 
     /// Loads the rig again; on success the edits are re-applied and the scene replaced,
     /// on failure the last good scene stays and the errors are shown. Returns whether
-    /// the load succeeded.
-    pub fn reload(&mut self) -> bool {
+    /// the load succeeded and where the time went.
+    pub fn reload(&mut self) -> ReloadTimes {
         let started = Instant::now();
         let result = (self.loader)(&self.path);
+        let load_ms = ms_since(started);
         self.revision += 1;
-        match result.map_err(Some).and_then(|rig| self.install(rig).map_err(|_| None)) {
+        let mut times = ReloadTimes {
+            ok: false,
+            load_ms,
+            ..ReloadTimes::default()
+        };
+        match result
+            .map_err(Some)
+            .and_then(|rig| self.install(rig, &mut times).map_err(|_| None))
+        {
             Ok(()) => {
                 self.load_errors = None;
-                self.load_ms = started.elapsed().as_secs_f64() * 1e3;
-                true
+                self.load_ms = ms_since(started);
+                times.ok = true;
             }
             Err(d) => {
                 if let Some(d) = d {
                     self.load_errors = Some(d);
                 }
-                false
             }
         }
+        times.total_ms = ms_since(started);
+        times
     }
 
-    fn install(&mut self, rig: LoadedRig) -> Result<(), String> {
+    fn install(&mut self, rig: LoadedRig, times: &mut ReloadTimes) -> Result<(), String> {
+        let started = Instant::now();
         let mut graph = rig.graph;
         let fps = rig.document.fps.unwrap_or(24.0);
         let range = rig.document.frames.unwrap_or((1.0, 48.0));
@@ -151,6 +185,8 @@ impl Session {
         }
         graph.set_time(Time::new(self.frame, fps));
         let scene = Scene::build(&mut graph);
+        times.scene_ms = ms_since(started);
+        let started = Instant::now();
         let (program, handles) = match compile(&mut graph, &scene) {
             Ok(x) => x,
             Err(e) => {
@@ -164,12 +200,15 @@ impl Session {
             }
         };
         let instance = Instance::new(program.clone());
+        let checks = Checks::new(&graph, &program);
+        times.compile_ms = ms_since(started);
         self.profile = None;
         self.loaded = Some(Loaded {
             graph,
             program,
             instance,
             handles,
+            checks,
             scene,
             fps,
             range,
@@ -185,6 +224,14 @@ impl Session {
             return json!({ "revision": self.revision, "rig": self.path.display().to_string(), "loadErrors": errors, "scene": null });
         };
         let g = &l.graph;
+        let scene = l.scene.to_json();
+        // What the page compares to keep its drawing when only values changed.
+        let scene_key = {
+            use std::hash::{Hash, Hasher};
+            let mut h = std::collections::hash_map::DefaultHasher::new();
+            scene.to_string().hash(&mut h);
+            format!("{:016x}", h.finish())
+        };
         let nodes: Vec<Json> = g
             .nodes()
             .into_iter()
@@ -196,35 +243,41 @@ impl Session {
             "fps": l.fps, "start": l.range.0, "end": l.range.1, "frame": self.frame,
             "loadMs": self.load_ms,
             "loadErrors": errors,
-            "scene": l.scene.to_json(),
+            "scene": scene,
+            "sceneKey": scene_key,
             "nodes": nodes,
             "edits": self.edits.iter().map(|(p, v)| json!([p, v])).collect::<Vec<_>>(),
         })
     }
 
     /// Evaluates the compiled program at `frame` and writes the frame into `out`;
-    /// returns the evaluation time in microseconds.
+    /// returns the evaluation time in microseconds. The problems of the frame are
+    /// collected as well (see [`crate::problems`]): when a step fails, the lazy graph
+    /// finds every other failing node too (only then, so playback pays nothing for it).
     pub fn frame(&mut self, frame: f64, out: &mut Vec<u8>) -> Option<f64> {
         let l = self.loaded.as_mut()?;
         self.frame = frame;
+        let time = Time::new(frame, l.fps);
         let started = Instant::now();
-        let result = l.instance.evaluate(Time::new(frame, l.fps));
+        let result = l.instance.evaluate(time);
         let us = started.elapsed().as_secs_f64() * 1e6;
-        self.eval_errors.clear();
+        self.problems.clear();
         if let Err(e) = result {
-            self.eval_errors.push(error_node(&e));
+            l.graph.set_time(time);
+            self.problems = failing_nodes(&mut l.graph);
+            if self.problems.is_empty() {
+                self.problems.push(Problem::from_error(&e));
+            }
         }
+        l.checks.scan(&l.instance, &mut self.problems);
         l.scene.write_frame(&l.instance, &l.handles, out);
         Some(us)
     }
 
-    /// Evaluation errors of the last frame or edit: (node, message).
+    /// Problems of the last frame or edit: `[{node, kind, message}]` (kind `error`,
+    /// `nonFinite` or `status`).
     pub fn eval_errors_json(&self) -> Json {
-        json!(self
-            .eval_errors
-            .iter()
-            .map(|(n, m)| json!({ "node": n, "message": m }))
-            .collect::<Vec<_>>())
+        json!(self.problems.iter().map(Problem::to_json).collect::<Vec<_>>())
     }
 
     /// A node's attributes from its spec, with current values, for the attribute panel.
@@ -260,6 +313,8 @@ impl Session {
                     "plug": path, "name": a.name, "index": index, "type": a.ty.name(),
                     "input": a.direction == Direction::Input, "keyable": a.keyable,
                     "unit": format!("{:?}", a.unit), "enum": a.enum_names, "doc": a.doc,
+                    "min": a.min, "max": a.max, "softMin": a.soft_min, "softMax": a.soft_max,
+                    "custom": i >= spec.first_custom().index(),
                     "source": source, "value": value,
                     "editable": a.direction == Direction::Input && source.is_none() && !a.ty.is_heavy(),
                 }));
@@ -287,7 +342,7 @@ impl Session {
         g.reset_stats();
         let started = Instant::now();
         g.set(plug, value.clone()).map_err(|e| e.to_string())?;
-        self.eval_errors = l.scene.write_frame_lazy(g, &mut scratch);
+        self.problems = l.scene.write_frame_lazy(g, &mut scratch);
         let ms = started.elapsed().as_secs_f64() * 1e3;
         let stats = g.stats();
         let compiled = l
@@ -298,6 +353,7 @@ impl Session {
         if compiled.is_err() {
             let (program, handles) = compile(g, &l.scene)?;
             l.instance = Instance::new(program.clone());
+            l.checks = Checks::new(g, &program);
             l.program = program;
             l.handles = handles;
         }
@@ -330,22 +386,22 @@ impl Session {
     /// The DG around `center` as SVG (see [`crate::graph_svg`]).
     pub fn graph_svg(&self, center: &str, depth: usize) -> Result<String, String> {
         let l = self.loaded.as_ref().ok_or("no rig loaded")?;
-        let errors: Vec<&str> = self.eval_errors.iter().map(|(n, _)| n.as_str()).collect();
+        let nodes = |status: bool| -> Vec<&str> {
+            self.problems
+                .iter()
+                .filter(|p| (p.kind == ProblemKind::Status) == status)
+                .map(|p| p.node.as_str())
+                .collect()
+        };
+        let (errors, warnings) = (nodes(false), nodes(true));
         let opts = crate::graph_svg::SvgOptions {
             center: Some(center),
             depth,
             profile: self.profile.as_ref(),
             errors: &errors,
+            warnings: &warnings,
         };
         crate::graph_svg::render(&l.graph, &opts)
-    }
-}
-
-/// The node an evaluation error names, and its message.
-fn error_node(e: &sinew_core::Error) -> (String, String) {
-    match e {
-        sinew_core::Error::Compute { node, message, .. } => (node.clone(), message.clone()),
-        other => (String::new(), other.to_string()),
     }
 }
 

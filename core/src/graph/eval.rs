@@ -157,15 +157,26 @@ impl Graph {
 
     /// Evaluates every group of every node (reporting the first failure).
     pub fn evaluate_all(&mut self) -> Result<()> {
-        let mut first_error = None;
+        self.evaluate_each().into_iter().next().map_or(Ok(()), Err)
+    }
+
+    /// Evaluates every group of every node and returns every failure, once each: where
+    /// a compiled evaluation stops at the first failing step, this also reaches the
+    /// failures in branches that do not depend on it (a group downstream of a failure
+    /// fails with that same error, which is listed once).
+    pub fn evaluate_each(&mut self) -> Vec<Error> {
+        let mut errors: Vec<Error> = Vec::new();
         for id in self.nodes() {
             for g in 0..self.nodes[id].groups.len() {
                 if let Err(e) = self.pull_group(id, g as u16) {
-                    first_error.get_or_insert(e);
+                    let text = e.to_string();
+                    if !errors.iter().any(|x| x.to_string() == text) {
+                        errors.push(e);
+                    }
                 }
             }
         }
-        first_error.map_or(Ok(()), Err)
+        errors
     }
 
     /// Groups that must be clean before the value flowing into `plug` is current.

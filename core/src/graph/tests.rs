@@ -264,6 +264,34 @@ fn compute_errors_name_the_node_and_recover() {
     assert_eq!(f(g.get_path("a.output").unwrap()), 3.0);
 }
 
+/// Two failing nodes in independent branches: the compiled evaluation stops at the first,
+/// `evaluate_each` names both, and the node downstream of one failure is not listed again.
+#[test]
+fn evaluate_each_reports_every_failing_node_once() {
+    let mut g = graph();
+    for n in ["c1", "c2", "ok"] {
+        g.add_node("clampPositive", n).unwrap();
+    }
+    g.add_node("add", "after_c1").unwrap();
+    g.connect_path("c1.output", "after_c1.input1").unwrap();
+    g.set_path("c1.input", Value::Float(-2000.0)).unwrap();
+    g.set_path("c2.input", Value::Float(-3000.0)).unwrap();
+    let mut inst = Instance::new(Arc::new(Program::compile(&g, &CompileOptions::default()).unwrap()));
+    assert!(inst.evaluate(Time::new(1.0, 24.0)).is_err());
+    let errors = g.evaluate_each();
+    let nodes: Vec<String> = errors
+        .iter()
+        .map(|e| match e {
+            Error::Compute { node, .. } => node.clone(),
+            other => panic!("{other}"),
+        })
+        .collect();
+    assert_eq!(nodes, ["c1", "c2"]);
+    assert!(errors[1].to_string().contains("-3000"), "{}", errors[1]);
+    assert_eq!(f(g.get_path("ok.output").unwrap()), 0.0);
+    assert!(g.evaluate_all().unwrap_err().to_string().contains("\"c1\""));
+}
+
 #[test]
 fn compiled_dynamic_inputs_rerun_only_downstream() {
     let mut g = graph();

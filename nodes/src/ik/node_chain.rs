@@ -367,6 +367,8 @@ impl ChainOutputs {
         );
         let status_message = b.output("statusMessage", Arc::<str>::from(""));
         b.attr_doc(status_message, "the status in words, naming the bad input when invalid");
+        // Tools (the viewer) mark a solver whose status is not `reached`.
+        b.status(status, Some(status_message));
         let error = b.output("error", 0.0);
         b.attr_doc(
             error,

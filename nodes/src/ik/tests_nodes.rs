@@ -390,6 +390,10 @@ fn status_and_joint_rotate_order_are_named_enums() {
         assert_eq!(status.enum_names, ["reached", "unreachable", "notConverged", "invalid"]);
         assert_eq!(status.enum_index("invalid"), Some(STATUS_INVALID));
         assert_eq!(status.enum_index("unreachable"), Some(STATUS_UNREACHABLE));
+        // Declared as the node's status (tools mark a solver that did not reach).
+        let declared = spec.status.expect("a declared status");
+        assert_eq!(declared.status, spec.find("status").unwrap().0);
+        assert_eq!(declared.message, Some(spec.find("statusMessage").unwrap().0));
         let order = spec.attr(spec.find("jointRotateOrder").unwrap().0);
         assert!(
             order.multi && order.ty == sinew_core::AttrType::Enum,
