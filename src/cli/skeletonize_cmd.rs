@@ -356,8 +356,8 @@ mod tests {
             ..Default::default()
         };
         let summary = skeletonize_cmd(&obj, &out, &opts, &registry).unwrap();
-        // One branch of four bones: five joints.
-        assert!(summary.contains("5 joints, 1 branches"), "{summary}");
+        // The root in the middle, two branches of four bones: nine joints.
+        assert!(summary.contains("9 joints, 2 branches"), "{summary}");
         crate::cli::rig_cmds::check(&out, &registry).unwrap();
         let text = std::fs::read_to_string(&out).unwrap();
         assert!(!text.contains("skinCluster"));
