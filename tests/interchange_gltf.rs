@@ -157,6 +157,7 @@ fn fox_plays_back_exactly_and_round_trips_through_bake() {
         fps: 30.0,
         tolerance: 0.0,
         name: "Walk".into(),
+        deformers_as_morphs: false,
     };
     let (baked, _) = bake(&mut graph, &opts).unwrap();
     let back = read_gltf_slice(&write_glb(&baked).unwrap(), None).unwrap();
@@ -413,6 +414,7 @@ fn real_files_import_evaluate_and_bake() {
             fps: 30.0,
             tolerance: 0.0,
             name: "x".into(),
+            deformers_as_morphs: false,
         };
         let (baked, _) = bake(&mut g, &opts).unwrap();
         read_gltf_slice(&write_glb(&baked).unwrap(), None).unwrap();

@@ -58,7 +58,9 @@ impl Mesh {
         Ok(())
     }
 
-    /// Recomputes smooth area-weighted vertex normals from the triangles.
+    /// Recomputes smooth vertex normals from the triangles, weighted by angle and area as
+    /// Maya's default *Vertex Normal Method* ("Angle and Area Weighted"): each triangle adds
+    /// its normal scaled by its area and by its corner angle at the vertex.
     ///
     /// Vertices touched by no triangle (or only by degenerate ones) get `+Y`.
     pub fn recompute_normals(&mut self) {
@@ -68,11 +70,16 @@ impl Mesh {
             if a >= acc.len() || b >= acc.len() || c >= acc.len() {
                 continue;
             }
-            let (pa, pb, pc) = (self.positions[a], self.positions[b], self.positions[c]);
-            let n = (pb - pa).cross(pc - pa);
-            acc[a] += n;
-            acc[b] += n;
-            acc[c] += n;
+            let p = [self.positions[a], self.positions[b], self.positions[c]];
+            // |cross| is twice the area: the face normal scaled by the area (up to 2).
+            let n = (p[1] - p[0]).cross(p[2] - p[0]);
+            for (k, v) in [a, b, c].into_iter().enumerate() {
+                let (e1, e2) = (p[(k + 1) % 3] - p[k], p[(k + 2) % 3] - p[k]);
+                let angle = e1.cross(e2).length().atan2(e1.dot(e2));
+                if angle.is_finite() {
+                    acc[v] += n * angle;
+                }
+            }
         }
         self.normals = acc.into_iter().map(|n| n.try_normalize().unwrap_or(Vec3::Y)).collect();
     }
@@ -192,5 +199,37 @@ impl Default for Curve {
             knots: Vec::new(),
             form: CurveForm::Open,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Maya's "Angle and Area Weighted" vertex normal, by hand: vertex 0 is a 90° corner of
+    /// a triangle of area 1/2 with normal +Z and a 45° corner of a triangle of area 1/2 with
+    /// normal +Y, so its normal is (0, π/4, π/2) normalized = (0, 1, 2)/√5 (area weighting
+    /// alone would give (0, 1, 1)/√2).
+    #[test]
+    fn smooth_normals_weight_by_angle_and_area() {
+        let mut m = Mesh {
+            positions: vec![
+                Vec3::ZERO,
+                Vec3::X,
+                Vec3::Y,
+                Vec3::Z,
+                Vec3::new(1.0, 0.0, 1.0),
+                Vec3::splat(5.0),
+            ],
+            normals: Vec::new(),
+            uvs: Vec::new(),
+            triangles: vec![[0, 1, 2], [0, 3, 4]],
+        };
+        m.recompute_normals();
+        let want = Vec3::new(0.0, 1.0, 2.0) / 5f32.sqrt();
+        assert!((m.normals[0] - want).length() < 1e-6, "{}", m.normals[0]);
+        assert_eq!(m.normals[1], Vec3::Z);
+        assert_eq!(m.normals[4], Vec3::Y);
+        assert_eq!(m.normals[5], Vec3::Y, "unused vertex");
     }
 }

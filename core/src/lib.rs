@@ -7,8 +7,10 @@
 //! pull-evaluate with early cutoff) and the compiled [`Program`] with its
 //! [`Instance`]s. The core knows no node type by name.
 
+pub mod custom;
 pub mod data;
 pub mod error;
+pub mod files;
 pub mod graph;
 pub mod inactive;
 mod instance;
@@ -16,10 +18,12 @@ pub mod kernel;
 pub mod mat_kernel;
 pub mod node;
 pub mod path;
+pub mod profile;
 pub mod program;
 pub mod program_bin;
 mod program_codec;
 mod program_compile;
+mod program_custom;
 mod program_layout;
 pub mod registry;
 pub mod rig;
@@ -27,14 +31,18 @@ mod slots;
 pub mod spec;
 mod tape;
 pub mod testing;
+pub mod validate;
 pub mod value;
+pub mod value_file;
 
+pub use custom::{CustomAffects, CustomNode};
 pub use data::{Curve, CurveForm, Mesh, Weights};
-pub use error::{ComputeError, Error, Result, SpecError};
-pub use graph::{EvalStats, Graph, NodeId, Plug};
+pub use error::{ComputeError, Error, InputError, Result, SpecError};
+pub use graph::{EvalStats, Graph, NodeId, Plug, MAX_ELEMENT_INDEX};
 pub use kernel::{finite, KernelNode, ScalarKernel, ScalarOp, MAX_KERNEL_INPUTS};
 pub use mat_kernel::{MatrixFn, MatrixKernel};
 pub use node::{ComputeContext, KnownInputs, NodeType, Time};
+pub use profile::{ProfileRow, ProfileTable, Profiler, StepTiming};
 pub use program::{evaluate_batch, CompileOptions, Instance, PlugHandle, Program};
 pub use registry::Registry;
 pub use rig::{
@@ -45,4 +53,5 @@ pub use spec::{
     AttrId, AttrSpec, ComputeGroup, DagLink, DagSpec, Direction, Input, MirrorRole, MultiInput, MultiOutput, NodeSpec,
     Output, SpecBuilder, Unit,
 };
+pub use validate::{Problem, ValidateInputs};
 pub use value::{AttrType, AttrValue, ObjectRef, SharedData, Value};

@@ -112,8 +112,9 @@ pub fn resolve_attr(spec: &NodeSpec, attr: &str, child: Option<&str>) -> Result<
         "z" | "Z" | "b" | "B" => 2,
         c => a
             .children
-            .as_ref()
-            .and_then(|ch| ch.iter().position(|n| n == c))
+            .iter()
+            .chain(&a.child_short_names)
+            .find_map(|ch| ch.iter().position(|n| n == c))
             .ok_or_else(|| AttrLookupError::Unknown(c.to_string()))? as u8,
     };
     Ok((id, Some(k)))

@@ -76,6 +76,23 @@ pub struct AttrSpec {
     /// How the value changes when a rig component is instantiated mirrored
     /// (see [`MirrorRole`]); `None` leaves it unchanged.
     pub mirror: MirrorRole,
+    /// Maya's short name (`t` for `translate`, `jo` for `jointOrient`): accepted as an
+    /// alias wherever an attribute is named (rig fields, plug paths, handles); files are
+    /// always written with the long name. `None` when the attribute has no Maya
+    /// counterpart. Declared with [`SpecBuilder::short_name`].
+    pub short_name: Option<String>,
+    /// Maya's short names of the three children of a vec3 attribute (`tx ty tz`), when the
+    /// attribute has a short name.
+    pub child_short_names: Option<[String; 3]>,
+    /// Hard minimum of a float or int attribute: setting a smaller value is refused
+    /// (Maya's `setAttr` without `-clamp`); values arriving through connections pass.
+    pub min: Option<f64>,
+    /// Hard maximum, as [`AttrSpec::min`].
+    pub max: Option<f64>,
+    /// Soft minimum: the slider range of a UI; not enforced.
+    pub soft_min: Option<f64>,
+    /// Soft maximum: the slider range of a UI; not enforced.
+    pub soft_max: Option<f64>,
 }
 
 /// How an authored attribute value changes when a rig component is
@@ -189,6 +206,10 @@ pub struct NodeSpec {
     /// For each input: the groups it affects.
     affected_groups: Vec<Vec<u16>>,
     by_name: HashMap<String, (AttrId, Option<u8>)>,
+    by_short: HashMap<String, (AttrId, Option<u8>)>,
+    /// Index of the first custom attribute (`attrs.len()` when the node has none; see
+    /// [`NodeSpec::custom_attrs`]).
+    pub(crate) custom_start: u16,
 }
 
 impl NodeSpec {
@@ -202,6 +223,9 @@ impl NodeSpec {
             time_dependent: false,
             time_outputs: Vec::new(),
             dag: None,
+            maya_names: Vec::new(),
+            explicit: false,
+            custom_start: None,
         }
     }
 
@@ -213,15 +237,22 @@ impl NodeSpec {
         &self.attrs[id.index()]
     }
 
-    /// Looks up an attribute or a vec3 child by name: `translate` gives
-    /// `(translate, None)`, `translateY` gives `(translate, Some(1))`.
+    /// Looks up an attribute or a vec3 child by its long or Maya short name:
+    /// `translate` and `t` give `(translate, None)`, `translateY` and `ty` give
+    /// `(translate, Some(1))`.
     pub fn find(&self, name: &str) -> Option<(AttrId, Option<u8>)> {
-        self.by_name.get(name).copied()
+        self.by_name.get(name).or_else(|| self.by_short.get(name)).copied()
     }
 
-    /// All names that [`NodeSpec::find`] accepts (attributes and vec3 children).
+    /// All long names that [`NodeSpec::find`] accepts (attributes and vec3 children), for
+    /// "did you mean" hints; short names are aliases and not listed.
     pub fn all_names(&self) -> impl Iterator<Item = &str> {
         self.by_name.keys().map(|s| s.as_str())
+    }
+
+    /// Whether `name` is a short name (an alias) rather than a long name.
+    pub fn is_short_name(&self, name: &str) -> bool {
+        !self.by_name.contains_key(name) && self.by_short.contains_key(name)
     }
 
     /// The compute groups of this node type.
@@ -255,6 +286,22 @@ impl NodeSpec {
     pub fn attr_ids(&self) -> impl Iterator<Item = AttrId> {
         (0..self.attrs.len() as u16).map(AttrId)
     }
+
+    /// The custom attributes of a node (Maya's `addAttr`), after the type's own: empty
+    /// for a node type's spec. Their ids start at [`NodeSpec::first_custom`].
+    pub fn custom_attrs(&self) -> &[AttrSpec] {
+        self.attrs.get(self.custom_start as usize..).unwrap_or(&[])
+    }
+
+    /// The id of the first custom attribute (the type's attribute count).
+    pub fn first_custom(&self) -> AttrId {
+        AttrId(self.custom_start)
+    }
+
+    /// Whether attribute `id` is a custom attribute.
+    pub fn is_custom(&self, id: AttrId) -> bool {
+        id.0 >= self.custom_start && id.index() < self.attrs.len()
+    }
 }
 
 /// Builds a [`NodeSpec`]; each `input`/`output` call returns a typed handle
@@ -263,11 +310,18 @@ impl NodeSpec {
 pub struct SpecBuilder {
     name: String,
     doc: String,
-    attrs: Vec<AttrSpec>,
-    affects: Vec<(AttrId, AttrId)>,
-    time_dependent: bool,
-    time_outputs: Vec<AttrId>,
-    dag: Option<DagSpec>,
+    pub(crate) attrs: Vec<AttrSpec>,
+    pub(crate) affects: Vec<(AttrId, AttrId)>,
+    pub(crate) time_dependent: bool,
+    pub(crate) time_outputs: Vec<AttrId>,
+    pub(crate) dag: Option<DagSpec>,
+    /// `(long, short)` pairs given to [`SpecBuilder::maya_names`], applied by `build`.
+    maya_names: Vec<(String, String)>,
+    /// Set for specs with custom attributes: `affects` and `time_outputs` are complete
+    /// (no all-to-all default, no "every output reads time" default).
+    pub(crate) explicit: bool,
+    /// Where custom attributes start (`attrs.len()` unless set).
+    pub(crate) custom_start: Option<u16>,
 }
 
 impl SpecBuilder {
@@ -290,6 +344,12 @@ impl SpecBuilder {
             unit: Unit::None,
             doc: String::new(),
             mirror: MirrorRole::None,
+            short_name: None,
+            child_short_names: None,
+            min: None,
+            max: None,
+            soft_min: None,
+            soft_max: None,
         });
         id
     }
@@ -384,6 +444,86 @@ impl SpecBuilder {
         self
     }
 
+    /// Declares Maya's short name of an attribute (`t` for `translate`). The children of a
+    /// vec3 get `short` plus their long name's suffix in lower case (`tx ty tz`, `ctr ctg
+    /// ctb` for `colorIfTrueR/G/B`); use [`SpecBuilder::child_short_names`] when Maya's
+    /// do not follow that rule. A short name that collides with another attribute's long
+    /// or short name makes [`SpecBuilder::build`] fail.
+    pub fn short_name(&mut self, id: impl Into<AttrId>, short: &str) -> &mut Self {
+        if let Some(a) = self.attr_mut(id) {
+            a.short_name = Some(short.to_string());
+            a.child_short_names = a.children.as_ref().and_then(|ch| {
+                let suffix = |c: &String| {
+                    c.strip_prefix(a.name.as_str())
+                        .map(|s| format!("{short}{}", s.to_lowercase()))
+                };
+                Some([suffix(&ch[0])?, suffix(&ch[1])?, suffix(&ch[2])?])
+            });
+        }
+        self
+    }
+
+    /// Sets (`Some`) or removes (`None`) Maya's short names of the children of a vec3
+    /// attribute, after [`SpecBuilder::short_name`], when Maya's do not follow its suffix
+    /// rule (`inTranslate1` is `it1`, its children `itx1 ity1 itz1`) or the children have
+    /// no Maya counterpart.
+    pub fn child_short_names(&mut self, id: impl Into<AttrId>, names: Option<[&str; 3]>) -> &mut Self {
+        if let Some(a) = self.attr_mut(id) {
+            a.child_short_names = names.map(|n| n.map(|s| s.to_string()));
+        }
+        self
+    }
+
+    /// Declares Maya's short names by long name, `(long, short)` pairs, resolved when the
+    /// spec is built (so it may come right after [`NodeSpec::builder`]). A pair naming an
+    /// attribute works as [`SpecBuilder::short_name`] (vec3 children get the derived
+    /// names); a pair naming a vec3 child (`("inTranslateX1", "itx1")`) sets that child's
+    /// short name, for children that do not follow the suffix rule. A long name the spec
+    /// does not have makes [`SpecBuilder::build`] fail.
+    pub fn maya_names(&mut self, pairs: &[(&str, &str)]) -> &mut Self {
+        self.maya_names
+            .extend(pairs.iter().map(|&(l, s)| (l.to_string(), s.to_string())));
+        self
+    }
+
+    /// Applies the pairs of [`SpecBuilder::maya_names`]: attributes first, then children.
+    fn apply_maya_names(&mut self) -> Result<(), String> {
+        let pairs = std::mem::take(&mut self.maya_names);
+        let mut children = Vec::new();
+        for (long, short) in &pairs {
+            match self.attrs.iter().position(|a| a.name == *long) {
+                Some(i) => {
+                    self.short_name(AttrId(i as u16), short);
+                }
+                None => children.push((long, short)),
+            }
+        }
+        for (long, short) in children {
+            let found = self.attrs.iter_mut().find_map(|a| {
+                let k = a.children.as_ref()?.iter().position(|c| c == long)?;
+                Some((a, k))
+            });
+            let Some((a, k)) = found else {
+                return Err(format!(
+                    "maya_names names {long:?}, which is not an attribute or a vec3 child"
+                ));
+            };
+            let names = a.child_short_names.get_or_insert_with(Default::default);
+            names[k] = short.clone();
+        }
+        for a in &self.attrs {
+            if let Some(ch) = &a.child_short_names {
+                if ch.iter().any(|c| c.is_empty()) {
+                    return Err(format!(
+                        "attribute {} has short names for some of its children only",
+                        a.name
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// The inputs declared so far, in declaration order (handy for "every input affects
     /// these outputs" when a node splits its outputs into several groups).
     pub fn input_ids(&self) -> Vec<AttrId> {
@@ -473,7 +613,13 @@ impl SpecBuilder {
     }
 
     /// Finishes the spec: checks names and derives compute groups.
-    pub fn build(self) -> Result<NodeSpec, SpecError> {
+    pub fn build(mut self) -> Result<NodeSpec, SpecError> {
+        if let Err(message) = self.apply_maya_names() {
+            return Err(SpecError {
+                node_type: self.name.clone(),
+                message,
+            });
+        }
         let err = |message: String| SpecError {
             node_type: self.name.clone(),
             message,
@@ -488,6 +634,7 @@ impl SpecBuilder {
             return Err(err("too many attributes".into()));
         }
         let mut by_name = HashMap::new();
+        let mut by_short = HashMap::new();
         for (i, a) in self.attrs.iter().enumerate() {
             let id = AttrId(i as u16);
             if a.default.attr_type() != a.ty && !(a.ty == AttrType::Enum && a.default.attr_type() == AttrType::Int) {
@@ -510,6 +657,43 @@ impl SpecBuilder {
                 }
                 if by_name.insert(n.clone(), v).is_some() {
                     return Err(err(format!("attribute name {n:?} is declared twice")));
+                }
+            }
+            if a.child_short_names.is_some() && (a.short_name.is_none() || a.children.is_none()) {
+                return Err(err(format!(
+                    "attribute {} has child short names but no short name or no children",
+                    a.name
+                )));
+            }
+            let shorts =
+                a.short_name
+                    .iter()
+                    .map(|s| (s.clone(), (id, None)))
+                    .chain(a.child_short_names.iter().flat_map(|ch| {
+                        ch.iter()
+                            .enumerate()
+                            .map(move |(k, c)| (c.clone(), (id, Some(k as u8))))
+                    }));
+            for (n, v) in shorts {
+                if n.is_empty() || !n.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+                    return Err(err(format!("short name {n:?} of {} must be an identifier", a.name)));
+                }
+                if by_short.insert(n.clone(), v).is_some() {
+                    return Err(err(format!("short name {n:?} (of {}) is declared twice", a.name)));
+                }
+            }
+        }
+        // A short name may not be another attribute's long name (`find` tries long names
+        // first, so the short one would never be reached); its own long name is fine
+        // (Maya's `weight (w)`... and attributes whose two names are equal).
+        for (n, &(id, k)) in &by_short {
+            if let Some(&(other, ok)) = by_name.get(n) {
+                if (other, ok) != (id, k) {
+                    let owner = &self.attrs[id.index()].name;
+                    return Err(err(format!(
+                        "short name {n:?} of {owner} collides with the long name of {}",
+                        self.attrs[other.index()].name
+                    )));
                 }
             }
         }
@@ -540,7 +724,7 @@ impl SpecBuilder {
         let mut groups: Vec<ComputeGroup> = Vec::new();
         let mut group_of = vec![u16::MAX; n];
         for &o in &outputs {
-            let mut ins: Vec<AttrId> = if self.affects.is_empty() {
+            let mut ins: Vec<AttrId> = if self.affects.is_empty() && !self.explicit {
                 inputs.clone()
             } else {
                 self.affects
@@ -551,7 +735,8 @@ impl SpecBuilder {
             };
             ins.sort();
             ins.dedup();
-            let timed = self.time_dependent && (self.time_outputs.is_empty() || self.time_outputs.contains(&o));
+            let timed = self.time_dependent
+                && ((self.time_outputs.is_empty() && !self.explicit) || self.time_outputs.contains(&o));
             let g = match groups.iter().position(|g| g.inputs == ins && g.time_dependent == timed) {
                 Some(g) => g,
                 None => {
@@ -604,7 +789,9 @@ impl SpecBuilder {
                 return Err(err("dag hookup must name a matrix input and a matrix output".into()));
             }
         }
+        let custom_start = self.custom_start.unwrap_or(self.attrs.len() as u16);
         Ok(NodeSpec {
+            custom_start,
             name: self.name,
             doc: self.doc,
             attrs: self.attrs,
@@ -614,6 +801,7 @@ impl SpecBuilder {
             group_of,
             affected_groups,
             by_name,
+            by_short,
         })
     }
 }
@@ -669,44 +857,5 @@ handle!(
 );
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use glam::DMat4;
-
-    #[test]
-    fn groups_split_by_affects() {
-        let mut b = NodeSpec::builder("xf");
-        let t = b.input("translate", glam::DVec3::ZERO);
-        let pm = b.input("parentMatrix", DMat4::IDENTITY);
-        let m = b.output("matrix", DMat4::IDENTITY);
-        let wm = b.output("worldMatrix", DMat4::IDENTITY);
-        let pim = b.output("parentInverseMatrix", DMat4::IDENTITY);
-        b.affects(&[t.id()], &[m.id(), wm.id()]);
-        b.affects(&[pm.id()], &[wm.id(), pim.id()]);
-        let s = b.build().unwrap();
-        assert_eq!(s.groups().len(), 3);
-        assert_ne!(s.group_of(m.id()), s.group_of(wm.id()));
-        assert_eq!(s.groups_affected_by(pm.id()).len(), 2);
-        assert_eq!(s.find("translateY"), Some((t.id(), Some(1))));
-    }
-
-    #[test]
-    fn duplicate_names_are_rejected() {
-        let mut b = NodeSpec::builder("dup");
-        b.input("a", 0.0);
-        b.input("a", 1.0);
-        assert!(b.build().unwrap_err().to_string().contains("twice"));
-    }
-
-    #[test]
-    fn without_affects_one_group() {
-        let mut b = NodeSpec::builder("add");
-        b.input("a", 0.0);
-        b.input("b", 0.0);
-        b.output("sum", 0.0);
-        b.output("diff", 0.0);
-        let s = b.build().unwrap();
-        assert_eq!(s.groups().len(), 1);
-        assert_eq!(s.groups()[0].inputs.len(), 2);
-    }
-}
+#[path = "spec_tests.rs"]
+mod tests;

@@ -83,7 +83,8 @@ pub(super) fn load_buffers(
                     ))
                 })?;
                 let path = dir.join(percent_decode(uri));
-                std::fs::read(&path).map_err(|e| err(format!("cannot read external file {}: {e}", path.display())))?
+                sinew_core::files::read_file(&path, sinew_core::files::DATA)
+                    .map_err(|e| err(format!("cannot read external file {}: {e}", path.display())))?
             }
         };
         if data.len() < buffer.length() {

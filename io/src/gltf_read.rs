@@ -22,10 +22,12 @@ use super::scene::{
 };
 use sinew_core::data::Weights;
 
-/// Reads a `.gltf` or `.glb` file; external buffers resolve relative to its folder.
+/// Reads a `.gltf` or `.glb` file; external buffers resolve relative to its folder. The
+/// file and its buffers are read through [`sinew_core::files::read_file`] (regular files
+/// of at most [`sinew_core::files::DATA`]).
 pub fn read_gltf(path: impl AsRef<Path>) -> Result<Scene, GltfError> {
     let path = path.as_ref();
-    let bytes = std::fs::read(path).map_err(|source| GltfError::Io {
+    let bytes = sinew_core::files::read_file(path, sinew_core::files::DATA).map_err(|source| GltfError::Io {
         path: path.display().to_string(),
         source,
     })?;

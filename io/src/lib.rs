@@ -1,15 +1,18 @@
 //! Interchange file formats as pure readers and writers over plain Rust structs:
-//! BVH motion capture in, glTF 2.0 in and out. Nothing here touches the graph; the
+//! BVH motion capture in, glTF 2.0 in and out, Wavefront OBJ in and out. Nothing here touches the graph; the
 //! importer and baker map these structs to and from graph nodes.
 
 pub mod bake;
+pub mod bake_morphs;
 pub mod bvh;
 mod gltf_binary;
 pub mod gltf_read;
 pub mod gltf_write;
 pub mod import_bvh;
 pub mod import_gltf;
+pub mod maya;
 pub mod mesh_file;
+pub mod obj;
 pub mod retarget;
 pub mod retarget_feet;
 mod retarget_map;

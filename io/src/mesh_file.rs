@@ -1,18 +1,31 @@
-//! Meshes from files: Wavefront OBJ (through the `tobj` crate) and glTF (the first primitive
-//! of the first mesh, through [`super::read_gltf`]), and the rig-file hook that resolves
-//! `inMesh: File("body.obj")` references ([`MeshFileSource`], [`load_rig`]).
+//! Meshes from files: Wavefront OBJ ([`crate::obj`]) and glTF (the first primitive of the
+//! first mesh, through [`super::read_gltf`]), and the rig-file hook that resolves
+//! `inMesh: File("body.obj")` references ([`MeshFileSource`], [`load_rig`]), along with
+//! the value files importers write (`File("x.data/…bin")`, read by the core).
 //!
-//! OBJ: every object/group of the file is merged into one mesh, triangulated, with one
-//! index per vertex (positions, normals and UVs that share a corner are split as needed).
-//! UVs are kept only when every object has them; normals are read when every object has
-//! them and recomputed (smooth, area-weighted) otherwise. Materials are ignored.
+//! Every file is read through [`sinew_core::files`]: regular files only, at most
+//! [`sinew_core::files::DATA`] (1 GiB).
+//!
+//! OBJ: the file's vertex order is kept exactly (vertex `i` is the `i`-th `v` line), every
+//! object and group is merged into one mesh, polygons are triangulated as fans; see
+//! [`crate::obj`] for normals and UVs. Materials are ignored.
 
 use std::path::Path;
 use std::sync::Arc;
 
-use glam::{Vec2, Vec3};
-use sinew_core::rig::{load_rig_with, normalize, FsSource, RigSource};
+use sinew_core::files::{read_text, DATA};
+use sinew_core::rig::{normalize, FsSource, LoadLimits, RigSource};
 use sinew_core::{AttrType, Diagnostics, LoadedRig, Mesh, Registry, Value};
+
+/// Whether `path` names a mesh file format [`load_mesh`] reads (by extension).
+pub fn is_mesh_file(path: &Path) -> bool {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase())
+        .unwrap_or_default();
+    matches!(ext.as_str(), "obj" | "gltf" | "glb")
+}
 
 /// Loads a mesh from an `.obj`, `.gltf` or `.glb` file (chosen by extension, case
 /// insensitive). The result is validated ([`Mesh::validate`]).
@@ -37,57 +50,11 @@ pub fn load_mesh(path: impl AsRef<Path>) -> Result<Mesh, String> {
     Ok(mesh)
 }
 
-/// Reads a Wavefront OBJ file into one triangle mesh (see the module docs).
+/// Reads a Wavefront OBJ file into one triangle mesh in the file's vertex order (see
+/// [`crate::obj`]).
 pub fn load_obj(path: &Path) -> Result<Mesh, String> {
-    let options = tobj::LoadOptions {
-        triangulate: true,
-        single_index: true,
-        ignore_points: true,
-        ignore_lines: true,
-    };
-    let (models, _materials) =
-        tobj::load_obj(path, &options).map_err(|e| format!("{}: cannot read OBJ: {e}", path.display()))?;
-    Ok(merge_obj(&models))
-}
-
-/// Merges `tobj` models (loaded with `single_index`) into one mesh.
-fn merge_obj(models: &[tobj::Model]) -> Mesh {
-    let all_uvs = !models.is_empty() && models.iter().all(|m| !m.mesh.texcoords.is_empty());
-    let all_normals = !models.is_empty() && models.iter().all(|m| !m.mesh.normals.is_empty());
-    let mut out = Mesh::default();
-    for m in models {
-        let base = out.positions.len() as u32;
-        let n = m.mesh.positions.len() / 3;
-        out.positions
-            .extend(m.mesh.positions.chunks_exact(3).map(|p| Vec3::new(p[0], p[1], p[2])));
-        if all_normals {
-            out.normals.extend(
-                m.mesh.normals[..(3 * n).min(m.mesh.normals.len())]
-                    .chunks_exact(3)
-                    .map(|p| Vec3::new(p[0], p[1], p[2]).try_normalize().unwrap_or(Vec3::Y)),
-            );
-        }
-        if all_uvs {
-            out.uvs.extend(
-                m.mesh.texcoords[..(2 * n).min(m.mesh.texcoords.len())]
-                    .chunks_exact(2)
-                    .map(|t| Vec2::new(t[0], t[1])),
-            );
-        }
-        out.triangles.extend(
-            m.mesh
-                .indices
-                .chunks_exact(3)
-                .map(|t| [base + t[0], base + t[1], base + t[2]]),
-        );
-    }
-    if out.normals.len() != out.positions.len() {
-        out.recompute_normals();
-    }
-    if out.uvs.len() != out.positions.len() {
-        out.uvs.clear();
-    }
-    out
+    let text = read_text(path, DATA).map_err(|e| format!("{}: cannot read OBJ: {e}", path.display()))?;
+    crate::obj::parse_obj(&text).map_err(|e| format!("{}:{e}", path.display()))
 }
 
 /// Reads the first primitive of the first mesh of a glTF file.
@@ -103,7 +70,8 @@ pub fn load_gltf_mesh(path: &Path) -> Result<Mesh, String> {
 }
 
 /// A [`RigSource`] that reads rig files from disk like [`FsSource`] and resolves
-/// `File("...")` references on mesh attributes with [`load_mesh`].
+/// `File("...")` references on mesh attributes with [`load_mesh`] (other references, to
+/// value files, as [`FsSource`] does).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct MeshFileSource;
 
@@ -112,13 +80,14 @@ impl RigSource for MeshFileSource {
         FsSource.read(path)
     }
 
+    fn file_names(&self, dir: &Path) -> Vec<String> {
+        FsSource.file_names(dir)
+    }
+
     fn load_value(&self, path: &Path, ty: AttrType) -> Result<Value, String> {
         match ty {
-            AttrType::Mesh => load_mesh(path).map(|m| Value::Mesh(Arc::new(m))),
-            other => Err(format!(
-                "cannot load a {other} from {}: only meshes can be read from files",
-                path.display()
-            )),
+            AttrType::Mesh if is_mesh_file(path) => load_mesh(path).map(|m| Value::Mesh(Arc::new(m))),
+            _ => FsSource.load_value(path, ty),
         }
     }
 }
@@ -126,9 +95,18 @@ impl RigSource for MeshFileSource {
 /// Loads a rig file whose mesh attributes may reference files (`inMesh: File("body.obj")`,
 /// relative to the rig file). Same as [`sinew_core::load_rig`] otherwise.
 pub fn load_rig(path: &Path, registry: &Arc<Registry>) -> Result<LoadedRig, Diagnostics> {
+    load_rig_with_limits(path, registry, LoadLimits::default())
+}
+
+/// [`load_rig`] with chosen [`LoadLimits`] (the most nodes the rig may expand to).
+pub fn load_rig_with_limits(
+    path: &Path,
+    registry: &Arc<Registry>,
+    limits: LoadLimits,
+) -> Result<LoadedRig, Diagnostics> {
     let key = normalize(path);
     match MeshFileSource.read(&key) {
-        Ok(text) => load_rig_with(&text, &key, registry, &MeshFileSource),
+        Ok(text) => sinew_core::rig::load_rig_with_limits(&text, &key, registry, &MeshFileSource, limits),
         // Let the core loader produce its usual "cannot read rig file" diagnostic.
         Err(_) => sinew_core::load_rig(&key, registry),
     }
@@ -144,6 +122,8 @@ pub fn format_rig_file(path: &Path, registry: &Arc<Registry>) -> Result<String, 
 
 #[cfg(test)]
 mod tests {
+    use glam::{Vec2, Vec3};
+
     use super::*;
 
     fn dir() -> std::path::PathBuf {

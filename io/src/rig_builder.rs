@@ -9,6 +9,14 @@
 //! with `uses: [Use(file: "model.data.ron")]`, so any sinew command (`check`, `eval`,
 //! `fmt`) loads the pair with the ordinary rig loader and no special support: connections
 //! in the main file reach the data file's nodes by name.
+//!
+//! # Value files
+//! A value of more than [`VALUE_FILE_NUMBERS`] numbers (a long take's animation keys, a
+//! dense mesh, its weights) is written to a binary value file in the folder
+//! `model.data/` ([`sinew_core::value_file`], exact to the bit) and referenced from the
+//! sidecar as `keyValue: File("model.data/hip_rotate.keyValue.bin")`, which the core
+//! loader reads. A 60,000-frame BVH take would otherwise be an 83 MB sidecar whose syntax
+//! tree takes over a gigabyte to load; as value files it is 17 MB read at memory speed.
 
 use std::collections::HashSet;
 use std::fmt::Write as _;
@@ -26,6 +34,8 @@ pub enum AttrVal {
     One(Value),
     /// Elements `0..n` of a multi attribute.
     Multi(Vec<Value>),
+    /// Sparse elements `(index, value)` of a multi attribute, written as a RON map.
+    Sparse(Vec<(u32, Value)>),
 }
 
 /// One node of a [`RigBuilder`].
@@ -126,6 +136,11 @@ impl RigBuilder {
         self.nodes[i].values.push((attr.to_string(), AttrVal::Multi(v)));
     }
 
+    /// Sets sparse elements `(index, value)` of a multi attribute of node `i`.
+    pub fn set_sparse(&mut self, i: usize, attr: &str, v: Vec<(u32, Value)>) {
+        self.nodes[i].values.push((attr.to_string(), AttrVal::Sparse(v)));
+    }
+
     /// Adds a connection.
     pub fn connect(&mut self, src: impl Into<String>, dst: impl Into<String>) {
         self.connections.push((src.into(), dst.into()));
@@ -152,6 +167,9 @@ impl RigBuilder {
                         .iter()
                         .enumerate()
                         .try_for_each(|(k, v)| g.set_path(&format!("{}.{attr}[{k}]", n.name), v.clone())),
+                    AttrVal::Sparse(vs) => vs
+                        .iter()
+                        .try_for_each(|(k, v)| g.set_path(&format!("{}.{attr}[{k}]", n.name), v.clone())),
                 }
                 .map_err(|e| format!("{}.{attr}: {e}", n.name))?;
             }
@@ -163,7 +181,13 @@ impl RigBuilder {
         Ok(g)
     }
 
-    fn print_nodes(&self, registry: &Registry, heavy: bool, out: &mut String) -> Result<(), String> {
+    fn print_nodes(
+        &self,
+        registry: &Registry,
+        heavy: bool,
+        out: &mut String,
+        mut files: Option<&mut ValueFiles>,
+    ) -> Result<(), String> {
         let nodes: Vec<&NodeRec> = self.nodes.iter().filter(|n| n.heavy == heavy).collect();
         if nodes.is_empty() {
             return Ok(());
@@ -183,17 +207,32 @@ impl RigBuilder {
             for (attr, v) in &n.values {
                 let a = spec.find(attr).map(|(id, _)| spec.attr(id));
                 let mut s = format!("{attr}: ");
+                let mut value = |s: &mut String, v: &Value, key: String| match files.as_deref_mut() {
+                    Some(f) if f.wants(v) => f.reference(s, v, &key),
+                    _ => print_ast(s, &write_value(v, a)),
+                };
                 match v {
-                    AttrVal::One(v) => print_ast(&mut s, &write_value(v, a)),
+                    AttrVal::One(v) => value(&mut s, v, format!("{}.{attr}", n.name)),
                     AttrVal::Multi(vs) => {
                         s.push('[');
                         for (k, v) in vs.iter().enumerate() {
                             if k > 0 {
                                 s.push_str(", ");
                             }
-                            print_ast(&mut s, &write_value(v, a));
+                            value(&mut s, v, format!("{}.{attr}.{k}", n.name));
                         }
                         s.push(']');
+                    }
+                    AttrVal::Sparse(vs) => {
+                        s.push('{');
+                        for (k, (i, v)) in vs.iter().enumerate() {
+                            if k > 0 {
+                                s.push_str(", ");
+                            }
+                            let _ = write!(s, "{i}: ");
+                            print_ast(&mut s, &write_value(v, a));
+                        }
+                        s.push('}');
                     }
                 }
                 parts.push(s);
@@ -215,8 +254,18 @@ impl RigBuilder {
         Ok(())
     }
 
-    /// The main rig text (using `data_file`, a path relative to it) and the data text.
+    /// The main rig text (using `data_file`, a path relative to it) and the data text, with
+    /// every value inline (see [`RigBuilder::to_files`] for what importers write).
     pub fn to_texts(&self, registry: &Registry, data_file: &str) -> Result<(String, String), String> {
+        self.texts(registry, data_file, None)
+    }
+
+    fn texts(
+        &self,
+        registry: &Registry,
+        data_file: &str,
+        mut files: Option<&mut ValueFiles>,
+    ) -> Result<(String, String), String> {
         let mut main = String::from(
             "// Imported by `sinew import`; heavy arrays live in the data file used below.\nRig(\n    name: ",
         );
@@ -231,7 +280,7 @@ impl RigBuilder {
             quote(&mut main, data_file);
             main.push_str("),\n    ],\n");
         }
-        self.print_nodes(registry, false, &mut main)?;
+        self.print_nodes(registry, false, &mut main, files.as_deref_mut())?;
         if !self.connections.is_empty() {
             main.push_str("    connections: [\n");
             for (s, d) in &self.connections {
@@ -245,22 +294,163 @@ impl RigBuilder {
         let mut data = String::from(
             "// Data sidecar of an imported rig (meshes, skin weights, blend shape targets, animation keys).\nRig(\n",
         );
-        self.print_nodes(registry, true, &mut data)?;
+        self.print_nodes(registry, true, &mut data, files)?;
         data.push_str(")\n");
         Ok((main, data))
     }
 
-    /// Writes `path` and its data sidecar (`<stem>.data.ron` next to it); returns the
-    /// sidecar path.
-    pub fn write(&self, registry: &Registry, path: &Path) -> Result<std::path::PathBuf, String> {
-        let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("rig");
+    /// What [`RigBuilder::write`] writes for the rig `out` (`<stem>.ron`): the main text,
+    /// the data sidecar text (`<stem>.data.ron`) and the value files (see the module docs).
+    pub fn to_files(&self, registry: &Registry, out: &Path) -> Result<RigFiles, String> {
+        let stem = out.file_stem().and_then(|s| s.to_str()).unwrap_or("rig");
         let data_name = format!("{stem}.data.ron");
-        let data_path = path.with_file_name(&data_name);
-        let (main, data) = self.to_texts(registry, &data_name)?;
-        std::fs::write(path, main).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-        if self.nodes.iter().any(|n| n.heavy) {
+        let mut files = ValueFiles::new(format!("{stem}.data"));
+        let (main, data) = self.texts(registry, &data_name, Some(&mut files))?;
+        Ok(RigFiles {
+            main,
+            data: self.nodes.iter().any(|n| n.heavy).then_some(data),
+            values: files.files,
+            folder: files.folder,
+        })
+    }
+
+    /// Writes `path`, its data sidecar (`<stem>.data.ron` next to it) and value files
+    /// (`<stem>.data/*.bin`); returns the sidecar path.
+    pub fn write(&self, registry: &Registry, path: &Path) -> Result<std::path::PathBuf, String> {
+        self.to_files(registry, path)?.write(path)
+    }
+}
+
+/// Heavy values with more numbers than this are written to value files (about 80 KB of
+/// text); smaller ones (a short clip's keys, a low-poly mesh) stay inline in the data
+/// sidecar, readable.
+pub const VALUE_FILE_NUMBERS: usize = 4_096;
+
+/// How many numbers a value holds (what its text would be made of).
+fn number_count(v: &Value) -> usize {
+    match v {
+        Value::FloatArray(a) => a.len(),
+        Value::IntArray(a) => a.len(),
+        Value::Vec3Array(a) => 3 * a.len(),
+        Value::MatrixArray(a) => 16 * a.len(),
+        Value::Mesh(m) => 3 * (m.positions.len() + m.normals.len() + m.triangles.len()) + 2 * m.uvs.len(),
+        Value::Weights(w) => w.offsets.len() + 2 * w.joints.len(),
+        Value::Curve(c) => 3 * c.points.len() + c.knots.len(),
+        _ => 0,
+    }
+}
+
+/// The value files of one written rig: large values by content (identical values, such as
+/// the key times every curve of a BVH take shares, are written once).
+struct ValueFiles {
+    folder: String,
+    files: Vec<(String, Vec<u8>)>,
+    by_hash: std::collections::HashMap<u64, Vec<usize>>,
+}
+
+impl ValueFiles {
+    fn new(folder: String) -> Self {
+        ValueFiles {
+            folder,
+            files: Vec::new(),
+            by_hash: Default::default(),
+        }
+    }
+
+    fn wants(&self, v: &Value) -> bool {
+        number_count(v) > VALUE_FILE_NUMBERS
+    }
+
+    /// Writes `File("<folder>/<key>.bin")` for `v` into `s`, recording the file.
+    fn reference(&mut self, s: &mut String, v: &Value, key: &str) {
+        let Some(bytes) = sinew_core::value_file::value_to_bytes(v) else {
+            return print_ast(s, &write_value(v, None));
+        };
+        let hash = {
+            use std::hash::{Hash, Hasher};
+            let mut h = std::collections::hash_map::DefaultHasher::new();
+            bytes.hash(&mut h);
+            h.finish()
+        };
+        let same = self
+            .by_hash
+            .get(&hash)
+            .and_then(|ks| ks.iter().find(|&&k| self.files[k].1 == bytes).copied());
+        let k = same.unwrap_or_else(|| {
+            let safe: String = key
+                .chars()
+                .map(|c| {
+                    if c.is_ascii_alphanumeric() || "_.-".contains(c) {
+                        c
+                    } else {
+                        '_'
+                    }
+                })
+                .collect();
+            self.files.push((format!("{}/{safe}.bin", self.folder), bytes));
+            self.by_hash.entry(hash).or_default().push(self.files.len() - 1);
+            self.files.len() - 1
+        });
+        s.push_str("File(");
+        quote(s, &self.files[k].0);
+        s.push(')');
+    }
+}
+
+/// The texts and value files of a rig to write (see [`RigBuilder::to_files`]).
+#[derive(Clone, Debug)]
+pub struct RigFiles {
+    /// The main rig text.
+    pub main: String,
+    /// The data sidecar text, when the rig has heavy nodes.
+    pub data: Option<String>,
+    /// Value files: path relative to the rig's folder, and bytes.
+    pub values: Vec<(String, Vec<u8>)>,
+    /// The folder of the value files, relative to the rig's folder.
+    pub folder: String,
+}
+
+impl RigFiles {
+    /// Writes the rig to `path`, the sidecar next to it and the value files into their
+    /// folder (value files left there by an earlier import are removed first); returns the
+    /// sidecar path.
+    pub fn write(&self, path: &Path) -> Result<std::path::PathBuf, String> {
+        let dir = path.parent().unwrap_or(Path::new(""));
+        let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("rig");
+        let data_path = path.with_file_name(format!("{stem}.data.ron"));
+        let folder = dir.join(&self.folder);
+        remove_value_files(&folder);
+        if !self.values.is_empty() {
+            std::fs::create_dir_all(&folder).map_err(|e| format!("cannot create {}: {e}", folder.display()))?;
+        }
+        for (rel, bytes) in &self.values {
+            let p = dir.join(rel);
+            std::fs::write(&p, bytes).map_err(|e| format!("cannot write {}: {e}", p.display()))?;
+        }
+        std::fs::write(path, &self.main).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        if let Some(data) = &self.data {
             std::fs::write(&data_path, data).map_err(|e| format!("cannot write {}: {e}", data_path.display()))?;
         }
         Ok(data_path)
     }
+}
+
+/// Removes the value files (`.bin` files starting with the value file header) in `folder`,
+/// and the folder when that leaves it empty; anything else is left alone.
+fn remove_value_files(folder: &Path) {
+    let Ok(entries) = std::fs::read_dir(folder) else { return };
+    for e in entries.flatten() {
+        let p = e.path();
+        let is_value_file = p.extension().is_some_and(|x| x == "bin")
+            && std::fs::File::open(&p)
+                .and_then(|mut f| {
+                    let mut head = [0u8; 8];
+                    std::io::Read::read_exact(&mut f, &mut head).map(|()| head)
+                })
+                .is_ok_and(|head| sinew_core::value_file::is_value_file(&head));
+        if is_value_file {
+            let _ = std::fs::remove_file(&p);
+        }
+    }
+    let _ = std::fs::remove_dir(folder);
 }

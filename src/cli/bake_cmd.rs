@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use sinew_core::Registry;
 
-use super::frames::parse_frames;
+use super::frames::resolve_timing;
 use super::rig_cmds::load;
 use crate::io::bake::{bake, BakeOptions};
 use crate::io::{write_glb, write_gltf_embedded, Scene};
@@ -29,18 +29,15 @@ pub fn bake_cmd(
     fps: Option<f64>,
     tolerance: f64,
     out: &Path,
+    deformers_as_morphs: bool,
     registry: &Arc<Registry>,
 ) -> Result<String, String> {
     let rig = load(rig_path, registry)?;
-    let fps = fps.or(rig.document.fps).unwrap_or(24.0);
-    let range = match (frames, rig.document.frames) {
-        (Some(f), _) => parse_frames(f)?,
-        (None, Some((a, b))) => super::frames::FrameRange {
-            start: a.round() as i64,
-            end: b.round() as i64,
-        },
-        (None, None) => return Err("give --frames, e.g. --frames 1..=120 (the rig sets no frame range)".into()),
-    };
+    let inputs: Vec<&Path> = std::iter::once(rig_path)
+        .chain(rig.files.iter().map(|p| p.as_path()))
+        .collect();
+    super::paths::check_outputs(&inputs, &[out])?;
+    let (range, fps) = resolve_timing(frames, fps, rig.document.frames, rig.document.fps)?;
     if !(tolerance.is_finite() && tolerance >= 0.0) {
         return Err(format!("--tolerance {tolerance} must be a non-negative number"));
     }
@@ -51,6 +48,7 @@ pub fn bake_cmd(
         fps,
         tolerance,
         name: rig.document.name.clone().unwrap_or_else(|| "baked".into()),
+        deformers_as_morphs,
     };
     let (scene, warnings) = bake(&mut graph, &opts).map_err(|e| format!("{}: {e}", rig_path.display()))?;
     write_scene(&scene, out)?;

@@ -1,24 +1,28 @@
-//! `sinew eval`: evaluates a rig frame by frame and prints chosen plugs as
-//! CSV or JSON lines.
+//! `sinew eval`: evaluates a rig frame by frame and prints chosen plugs as CSV or JSON
+//! lines, or writes mesh plugs as one OBJ file per frame. Output streams: each frame is
+//! written as soon as it is evaluated, so memory stays constant over any frame count.
 
-use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::Arc;
 
-use sinew_core::rig::parse::parse;
-use sinew_core::rig::typed::read_value;
-use sinew_core::{CompileOptions, Graph, Instance, Plug, Program, Registry, Time, Value};
+pub use sinew_core::rig::typed::parse_plug_value;
+use sinew_core::{CompileOptions, Graph, Instance, Plug, Program, Registry, Time};
 
-use super::frames::{parse_frames, FrameRange};
+use super::eval_format::Printer;
+use super::frames::resolve_timing;
+use super::output::{CliError, Output};
 use super::rig_cmds::load;
 
 /// Output format of `sinew eval`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Format {
-    /// Comma-separated values, one row per frame; vectors and matrices spread over columns.
+    /// Comma-separated values, one row per frame; vectors and matrices spread over columns
+    /// (meshes and other large values print as a summary: use jsonl or obj to see them).
     Csv,
-    /// One JSON object per frame.
+    /// One JSON object per frame with every value in full (meshes, weights, arrays).
     Jsonl,
+    /// One Wavefront OBJ file per mesh plug and frame, written into the `--output` folder.
+    Obj,
 }
 
 /// Everything `sinew eval` needs.
@@ -32,83 +36,102 @@ pub struct EvalRequest {
     pub fps: Option<f64>,
     /// Plug paths to print.
     pub print: Vec<String>,
-    /// `node.attr=value` overrides.
+    /// `node.attr=value` overrides of unconnected inputs.
     pub set: Vec<String>,
+    /// `node.attr=value` overrides of inputs driven by a connection: the connection is
+    /// removed for this run.
+    pub set_driven: Vec<String>,
     /// Output format.
     pub format: Format,
+    /// The folder OBJ files are written to (`Format::Obj`).
+    pub output: Option<PathBuf>,
     /// Evaluate lazily through the graph instead of the compiled program.
     pub lazy: bool,
 }
 
-/// Parses `text` as a value for `plug` (RON syntax, as in rig files).
-pub fn parse_plug_value(graph: &Graph, plug: Plug, text: &str) -> Result<Value, String> {
-    let ty = graph.plug_type(plug).map_err(|e| e.to_string())?;
-    let spec = graph.node_spec(plug.node).ok_or("stale node")?;
-    let attr = (plug.component.is_none()).then(|| spec.attr(plug.attr));
-    let file: Arc<Path> = Arc::from(Path::new("<--set>"));
-    let node = parse(text, &file).map_err(|d| format!("cannot parse {text:?}: {}", d.message))?;
-    read_value(&node, ty, attr, &graph.plug_name(plug)).map_err(|d| match d.hint {
-        Some(h) => format!("{} ({h})", d.message),
-        None => d.message,
-    })
-}
-
-fn flatten(v: &Value) -> Vec<String> {
-    match v {
-        Value::Vec3(x) => x.to_array().iter().map(|c| format!("{c:?}")).collect(),
-        Value::Quat(q) => q.to_array().iter().map(|c| format!("{c:?}")).collect(),
-        Value::Matrix(m) => m.to_cols_array().iter().map(|c| format!("{c:?}")).collect(),
-        Value::Float(x) => vec![format!("{x:?}")],
-        other => vec![other.to_string()],
+impl EvalRequest {
+    /// A request printing `print` from `rig` as CSV with every other option at its default.
+    pub fn new(rig: impl Into<PathBuf>, print: &[&str]) -> Self {
+        EvalRequest {
+            rig: rig.into(),
+            frames: None,
+            fps: None,
+            print: print.iter().map(|s| s.to_string()).collect(),
+            set: Vec::new(),
+            set_driven: Vec::new(),
+            format: Format::Csv,
+            output: None,
+            lazy: false,
+        }
     }
 }
 
-fn column_names(name: &str, v: &Value) -> Vec<String> {
-    match v {
-        Value::Vec3(_) => ["x", "y", "z"].iter().map(|c| format!("{name}.{c}")).collect(),
-        Value::Quat(_) => ["x", "y", "z", "w"].iter().map(|c| format!("{name}.{c}")).collect(),
-        Value::Matrix(_) => (0..16).map(|i| format!("{name}[{i}]")).collect(),
-        _ => vec![name.to_string()],
+/// `plug` without its component.
+fn whole(plug: Plug) -> Plug {
+    Plug {
+        component: None,
+        ..plug
     }
 }
 
-fn json_value(v: &Value) -> serde_json::Value {
-    match v {
-        Value::Bool(b) => serde_json::json!(b),
-        Value::Int(i) | Value::Enum(i) => serde_json::json!(i),
-        Value::Float(x) => serde_json::json!(x),
-        Value::Vec3(x) => serde_json::json!(x.to_array()),
-        Value::Quat(q) => serde_json::json!(q.to_array()),
-        Value::Matrix(m) => serde_json::json!(m.to_cols_array()),
-        other => serde_json::json!(other.to_string()),
+/// The connections driving `plug` (its whole source, or its components' sources).
+fn drivers(graph: &Graph, plug: Plug) -> Vec<(Plug, Plug)> {
+    if let Some(src) = graph.source_of(whole(plug)) {
+        return vec![(src, whole(plug))];
+    }
+    match plug.component {
+        Some(_) => graph.source_of(plug).map(|s| vec![(s, plug)]).unwrap_or_default(),
+        None => (0..3u8)
+            .filter_map(|k| graph.source_of(plug.component(k)).map(|s| (s, plug.component(k))))
+            .collect(),
     }
 }
 
-/// Runs `sinew eval` and returns the text to print.
-pub fn eval(req: &EvalRequest, registry: &Arc<Registry>) -> Result<String, String> {
+/// Applies `--set` (unconnected inputs) and `--set-driven` (inputs driven by a
+/// connection, disconnected for this run) overrides.
+pub fn apply_overrides(graph: &mut Graph, set: &[String], set_driven: &[String]) -> Result<(), String> {
+    for (s, driven) in set
+        .iter()
+        .map(|s| (s, false))
+        .chain(set_driven.iter().map(|s| (s, true)))
+    {
+        let flag = if driven { "--set-driven" } else { "--set" };
+        let fail = |e: &dyn std::fmt::Display| format!("{flag} {s:?}: {e}");
+        let (lhs, rhs) = s
+            .split_once('=')
+            .ok_or_else(|| format!("{flag} {s:?}: write it as node.attr=value"))?;
+        let plug = graph.plug(lhs.trim()).map_err(|e| fail(&e))?;
+        let value = parse_plug_value(graph, plug, rhs.trim()).map_err(|e| fail(&e))?;
+        if driven {
+            let links = drivers(graph, plug);
+            if plug.component.is_some() && links.iter().any(|(_, d)| d.component.is_none()) {
+                let whole = graph.plug_name(whole(plug));
+                return Err(fail(&format!(
+                    "{} is driven as part of {whole}; override {whole} as a whole",
+                    graph.plug_name(plug)
+                )));
+            }
+            for (src, dst) in links {
+                graph.disconnect(src, dst).map_err(|e| fail(&e))?;
+            }
+        }
+        graph.set(plug, value).map_err(|e| match e {
+            sinew_core::Error::InputConnected { .. } if !driven => {
+                format!("--set {s:?}: {e}; to override a driven input for this run, use --set-driven {s:?}")
+            }
+            e => fail(&e),
+        })?;
+    }
+    Ok(())
+}
+
+/// Runs `sinew eval`, writing each frame to `out` as soon as it is evaluated.
+pub fn eval_to(req: &EvalRequest, registry: &Arc<Registry>, out: &mut Output<'_>) -> Result<(), CliError> {
     let rig = load(&req.rig, registry)?;
     let doc = rig.document;
     let mut graph = rig.graph;
-    for s in &req.set {
-        let (lhs, rhs) = s
-            .split_once('=')
-            .ok_or_else(|| format!("--set {s:?}: write it as node.attr=value"))?;
-        let plug = graph.plug(lhs.trim()).map_err(|e| format!("--set {s:?}: {e}"))?;
-        let value = parse_plug_value(&graph, plug, rhs.trim()).map_err(|e| format!("--set {s:?}: {e}"))?;
-        graph.set(plug, value).map_err(|e| format!("--set {s:?}: {e}"))?;
-    }
-    let fps = req.fps.or(doc.fps).unwrap_or(24.0);
-    if !(fps.is_finite() && fps > 0.0) {
-        return Err(format!("--fps {fps} must be a positive number"));
-    }
-    let range = match (&req.frames, doc.frames) {
-        (Some(f), _) => parse_frames(f)?,
-        (None, Some((a, b))) => FrameRange {
-            start: a.round() as i64,
-            end: b.round() as i64,
-        },
-        (None, None) => return Err("give --frames, e.g. --frames 1..=24 (the rig sets no frame range)".into()),
-    };
+    apply_overrides(&mut graph, &req.set, &req.set_driven)?;
+    let (range, fps) = resolve_timing(req.frames.as_deref(), req.fps, doc.frames, doc.fps)?;
     let names: Vec<String> = req
         .print
         .iter()
@@ -123,16 +146,24 @@ pub fn eval(req: &EvalRequest, registry: &Arc<Registry>) -> Result<String, Strin
         .iter()
         .map(|n| graph.plug(n).map_err(|e| e.to_string()))
         .collect::<Result<_, _>>()?;
-    // Evaluate every frame into rows of values.
-    let mut rows: Vec<(i64, Vec<Value>)> = Vec::new();
+    let mut printer = Printer::new(req.format, names.clone(), req.output.as_deref(), range)?;
+    if req.format == Format::Obj {
+        for (&p, n) in plugs.iter().zip(&names) {
+            let ty = graph.plug_type(p).map_err(|e| e.to_string())?;
+            if ty != sinew_core::AttrType::Mesh {
+                return Err(format!("--format obj writes meshes, but {n} is a {ty}; print it as csv or jsonl").into());
+            }
+        }
+    }
+    let mut values = Vec::with_capacity(plugs.len());
     if req.lazy {
         for f in range.frames() {
             graph.set_time(Time::new(f as f64, fps));
-            let vals = plugs
-                .iter()
-                .map(|&p| graph.get(p).map_err(|e| e.to_string()))
-                .collect::<Result<_, _>>()?;
-            rows.push((f, vals));
+            values.clear();
+            for &p in &plugs {
+                values.push(graph.get(p).map_err(|e| format!("frame {f}: {e}"))?);
+            }
+            printer.frame(f, &values, out)?;
         }
     } else {
         let program = Arc::new(Program::compile(&graph, &CompileOptions::default()).map_err(|e| e.to_string())?);
@@ -144,37 +175,19 @@ pub fn eval(req: &EvalRequest, registry: &Arc<Registry>) -> Result<String, Strin
         for f in range.frames() {
             inst.evaluate(Time::new(f as f64, fps))
                 .map_err(|e| format!("frame {f}: {e}"))?;
-            rows.push((f, handles.iter().map(|h| inst.get(h)).collect()));
+            values.clear();
+            values.extend(handles.iter().map(|h| inst.get(h)));
+            printer.frame(f, &values, out)?;
         }
     }
-    let mut out = String::new();
-    match req.format {
-        Format::Csv => {
-            if let Some((_, first)) = rows.first() {
-                let mut header = vec!["frame".to_string()];
-                for (n, v) in names.iter().zip(first) {
-                    header.extend(column_names(n, v));
-                }
-                let _ = writeln!(out, "{}", header.join(","));
-            }
-            for (f, vals) in &rows {
-                let mut cells = vec![f.to_string()];
-                for v in vals {
-                    cells.extend(flatten(v));
-                }
-                let _ = writeln!(out, "{}", cells.join(","));
-            }
-        }
-        Format::Jsonl => {
-            for (f, vals) in &rows {
-                let map: serde_json::Map<String, serde_json::Value> = names
-                    .iter()
-                    .zip(vals)
-                    .map(|(n, v)| (n.clone(), json_value(v)))
-                    .collect();
-                let _ = writeln!(out, "{}", serde_json::json!({ "frame": f, "values": map }));
-            }
-        }
-    }
-    Ok(out)
+    printer.finish(out)
+}
+
+/// Runs `sinew eval` and returns the text it prints (for tests and tools; the CLI streams
+/// with [`eval_to`]).
+pub fn eval(req: &EvalRequest, registry: &Arc<Registry>) -> Result<String, String> {
+    let mut buf = Vec::new();
+    let mut out = Output::new(&mut buf);
+    eval_to(req, registry, &mut out).map_err(|e| e.to_string())?;
+    String::from_utf8(buf).map_err(|e| e.to_string())
 }

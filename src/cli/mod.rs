@@ -1,26 +1,49 @@
 //! The `sinew` command-line tool: argument parsing and one module per command.
+//!
+//! Adding a command: give it a module with a function taking its arguments and an
+//! [`Output`], returning `Result<(), CliError>` (or `Result<String, String>` for a short
+//! summary that `execute` prints). Every command follows the rules in [`output`]: results
+//! go through the `Output` (never `print!`/`println!`: they panic on a closed pipe), a
+//! closed standard output ends the command quietly with exit code 0, any other write error
+//! is reported with exit code 1, and files it writes are checked with
+//! [`paths::check_outputs`] (no output may overwrite an input; rigs end in `.ron`).
 
 mod bake_cmd;
 mod eval_cmd;
+mod eval_format;
 mod frames;
 mod import_cmd;
 mod nodes_cmd;
+pub mod output;
+pub mod paths;
+mod profile_cmd;
 mod retarget_cmd;
 mod rig_cmds;
 mod skeletonize_cmd;
+#[cfg(feature = "view")]
+mod view_cmd;
+mod watch;
 
+use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-pub use eval_cmd::{eval, parse_plug_value, EvalRequest, Format};
-pub use frames::{parse_frames, FrameRange};
+pub use eval_cmd::{apply_overrides, eval, eval_to, parse_plug_value, EvalRequest, Format};
+pub use eval_format::Json;
+pub use frames::{parse_frames, resolve_timing, FrameRange, MAX_FRAME, MAX_FRAMES};
+pub use nodes_cmd::{markdown as nodes_markdown, MARKDOWN_COMMAND};
+pub use output::{CliError, Output};
 
 /// sinew: a Maya-style rig evaluator — check, evaluate and bake rigs written as RON text.
 #[derive(Debug, Parser)]
 #[command(name = "sinew", version, about, long_about = None)]
 pub struct Cli {
+    /// The most nodes a rig may expand to, components included (default 250000): a guard
+    /// against components that multiply without end.
+    #[arg(long, global = true, value_name = "N")]
+    max_nodes: Option<usize>,
     #[command(subcommand)]
     command: Command,
 }
@@ -29,11 +52,17 @@ pub struct Cli {
 enum Command {
     /// List the registered node types and their attributes.
     Nodes {
-        /// Show only this node type.
+        /// Show only this node type (with --rig: this node of the rig, custom attributes included).
         node_type: Option<String>,
         /// Print JSON instead of text.
         #[arg(long)]
         json: bool,
+        /// List the attributes of a node of this rig (NODE_TYPE names the node).
+        #[arg(long, value_name = "RIG")]
+        rig: Option<PathBuf>,
+        /// Print every node type as Markdown (what `docs/nodes.md` holds).
+        #[arg(long, conflicts_with_all = ["json", "node_type"])]
+        markdown: bool,
     },
     /// Validate a rig: a one-line summary, or every error as file:line:col.
     Check {
@@ -55,16 +84,53 @@ enum Command {
         #[arg(long)]
         check: bool,
     },
-    /// Print a rig's node graph as Graphviz DOT (default) or JSON.
+    /// Print a rig's node graph as Graphviz DOT (default), JSON, an SVG picture or an HTML page.
     Graph {
         /// The rig file.
         rig: PathBuf,
         /// Graphviz DOT output.
-        #[arg(long, conflicts_with = "json")]
+        #[arg(long, conflicts_with_all = ["json", "svg", "html"])]
         dot: bool,
         /// JSON output.
-        #[arg(long)]
+        #[arg(long, conflicts_with_all = ["svg", "html"])]
         json: bool,
+        /// An SVG picture laid out by sinew (no Graphviz needed).
+        #[arg(long, conflicts_with = "html")]
+        svg: bool,
+        /// A standalone HTML page with the picture, pan, zoom and node search.
+        #[arg(long)]
+        html: bool,
+    },
+    /// Serve a live viewer of the rig in the browser (reloads when the rig's files change).
+    View {
+        /// The rig file.
+        rig: PathBuf,
+        /// Port to listen on (0: any free port; the address is printed).
+        #[arg(long, default_value_t = 8484)]
+        port: u16,
+        /// Address to listen on.
+        #[arg(long, default_value = "127.0.0.1")]
+        host: String,
+        /// Open the page in the default browser.
+        #[arg(long)]
+        open: bool,
+    },
+    /// Time the compiled evaluation per node and node type; optionally write a Chrome trace.
+    Profile {
+        /// The rig file.
+        rig: PathBuf,
+        /// Frames: START..=END, START..END or one frame (default: the rig's frame range).
+        #[arg(long)]
+        frames: Option<String>,
+        /// Frames per second (default: the rig's fps, else 24).
+        #[arg(long)]
+        fps: Option<f64>,
+        /// Write a Chrome trace-event JSON of the first frames (Perfetto, chrome://tracing).
+        #[arg(long)]
+        trace: Option<PathBuf>,
+        /// Node rows to print.
+        #[arg(long, default_value_t = 30)]
+        top: usize,
     },
     /// Evaluate a rig frame by frame and print plugs.
     Eval {
@@ -82,16 +148,24 @@ enum Command {
         /// Override an input before evaluating: node.attr=value (RON syntax, e.g. (1, 2, 3)).
         #[arg(long)]
         set: Vec<String>,
-        /// Output format.
+        /// Override an input that a connection drives, for this run: the connection is
+        /// removed and the value set (node.attr=value; try the FK side of a switch).
+        #[arg(long)]
+        set_driven: Vec<String>,
+        /// Output format: csv, jsonl (whole values: meshes, weights, matrix arrays) or obj
+        /// (one OBJ file per mesh plug and frame, into the --output folder).
         #[arg(long, value_enum, default_value_t = Format::Csv)]
         format: Format,
+        /// With --format obj: the folder the OBJ files are written to.
+        #[arg(short, long)]
+        output: Option<PathBuf>,
         /// Evaluate lazily through the graph instead of the compiled schedule.
         #[arg(long)]
         lazy: bool,
     },
-    /// Import a glTF (.gltf/.glb) or BVH file as a rig (RIG.ron plus its data file RIG.data.ron).
+    /// Import a Maya ASCII (.ma), glTF (.gltf/.glb) or BVH file as a rig (RIG.ron plus its data file RIG.data.ron).
     Import {
-        /// The model or motion file.
+        /// The scene, model or motion file.
         model: PathBuf,
         /// The rig file to write.
         #[arg(short, long)]
@@ -102,6 +176,12 @@ enum Command {
         /// glTF: the rig's frame rate (default 30; playback is exact at any rate).
         #[arg(long)]
         fps: Option<f64>,
+        /// Maya: multiply every length by this factor (0.01: centimetres to metres).
+        #[arg(long)]
+        scale: Option<f64>,
+        /// Maya: fail when a node type or connection that changes the rig is skipped.
+        #[arg(long)]
+        strict: bool,
     },
     /// Evaluate a rig over frames and write a glTF (.glb or .gltf) with skeleton, skins, morphs and animation.
     Bake {
@@ -119,6 +199,10 @@ enum Command {
         /// The glTF file to write.
         #[arg(short, long)]
         output: PathBuf,
+        /// Bake meshes deformed by deformers glTF cannot express (cluster, nonLinear, ffd,
+        /// deltaMush, wire, wrap...) as one morph target per frame (else: a warning names what is lost).
+        #[arg(long)]
+        bake_deformers_as_morphs: bool,
     },
     /// Retarget a BVH take onto a rig's skeleton and bake the result to glTF.
     Retarget {
@@ -186,10 +270,17 @@ pub fn run(args: impl IntoIterator<Item = std::ffi::OsString>) -> ExitCode {
             };
         }
     };
-    match execute(cli) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(message) => {
-            eprintln!(
+    let stdout = std::io::stdout();
+    let terminal = stdout.is_terminal();
+    let mut lock = std::io::BufWriter::new(stdout.lock());
+    let mut out = Output::new(&mut lock).eager(terminal);
+    let result = execute(cli, &mut out).and_then(|()| out.flush());
+    match result {
+        Ok(()) | Err(CliError::OutputClosed) => ExitCode::SUCCESS,
+        Err(CliError::Failed(message)) => {
+            // Standard error may be closed too: nothing more to do then.
+            let _ = writeln!(
+                std::io::stderr(),
                 "{}",
                 if message.contains(": error: ") {
                     message
@@ -202,34 +293,87 @@ pub fn run(args: impl IntoIterator<Item = std::ffi::OsString>) -> ExitCode {
     }
 }
 
-fn print(text: &str) {
-    if text.ends_with('\n') {
-        print!("{text}");
-    } else if !text.is_empty() {
-        println!("{text}");
-    }
+#[cfg(feature = "view")]
+fn view(
+    rig: &std::path::Path,
+    addr: &str,
+    open: bool,
+    registry: &std::sync::Arc<sinew_core::Registry>,
+) -> Result<(), String> {
+    view_cmd::view(rig, addr, open, registry)
 }
 
-fn execute(cli: Cli) -> Result<(), String> {
+#[cfg(not(feature = "view"))]
+fn view(_: &std::path::Path, _: &str, _: bool, _: &std::sync::Arc<sinew_core::Registry>) -> Result<(), String> {
+    Err("this sinew was built without the `view` feature; rebuild with default features".into())
+}
+
+fn execute(cli: Cli, out: &mut Output<'_>) -> Result<(), CliError> {
     let registry = crate::default_registry().map_err(|e| format!("internal error in a node plugin: {e}"))?;
+    if let Some(max_nodes) = cli.max_nodes {
+        rig_cmds::set_load_limits(sinew_core::rig::LoadLimits { max_nodes });
+    }
     match cli.command {
-        Command::Nodes { node_type, json } => print(&nodes_cmd::render(&registry, node_type.as_deref(), json)?),
+        Command::Nodes { markdown: true, .. } => out.text(&nodes_cmd::markdown(&registry))?,
+        Command::Nodes {
+            node_type, json, rig, ..
+        } => match rig {
+            Some(rig) => {
+                let node = node_type.ok_or("--rig needs a node name: sinew nodes NODE --rig RIG.ron")?;
+                let loaded = rig_cmds::load(&rig, &registry)?;
+                out.text(&nodes_cmd::render_node(&loaded.graph, &node, json)?)?
+            }
+            None => out.text(&nodes_cmd::render(&registry, node_type.as_deref(), json)?)?,
+        },
         Command::Check { rig, watch, max_runs } => {
             if watch {
-                rig_cmds::watch(&rig, &registry, max_runs)?;
+                rig_cmds::watch(&rig, &registry, max_runs, &mut out.reborrow().eager(true))?;
             } else {
-                print(&rig_cmds::check(&rig, &registry)?);
+                out.text(&rig_cmds::check(&rig, &registry)?)?;
             }
         }
-        Command::Fmt { rigs, check } => print(&rig_cmds::fmt(&rigs, check, &registry)?),
-        Command::Graph { rig, dot: _, json } => print(&rig_cmds::graph(&rig, json, &registry)?),
+        Command::Fmt { rigs, check } => out.text(&rig_cmds::fmt(&rigs, check, &registry)?)?,
+        Command::Graph {
+            rig,
+            dot: _,
+            json,
+            svg,
+            html,
+        } => {
+            let format = match (json, svg, html) {
+                (true, _, _) => rig_cmds::GraphFormat::Json,
+                (_, true, _) => rig_cmds::GraphFormat::Svg,
+                (_, _, true) => rig_cmds::GraphFormat::Html,
+                _ => rig_cmds::GraphFormat::Dot,
+            };
+            out.text(&rig_cmds::graph(&rig, format, &registry)?)?
+        }
+        Command::View { rig, port, host, open } => view(&rig, &format!("{host}:{port}"), open, &registry)?,
+        Command::Profile {
+            rig,
+            frames,
+            fps,
+            trace,
+            top,
+        } => out.text(&profile_cmd::profile(
+            &profile_cmd::ProfileRequest {
+                rig,
+                frames,
+                fps,
+                trace,
+                top,
+            },
+            &registry,
+        )?)?,
         Command::Eval {
             rig,
             frames,
             fps,
             print: plugs,
             set,
+            set_driven,
             format,
+            output,
             lazy,
         } => {
             let req = EvalRequest {
@@ -238,37 +382,47 @@ fn execute(cli: Cli) -> Result<(), String> {
                 fps,
                 print: plugs,
                 set,
+                set_driven,
                 format,
+                output,
                 lazy,
             };
-            print(&eval(&req, &registry)?);
+            eval_to(&req, &registry, out)?;
         }
         Command::Import {
             model,
             output,
             animation,
             fps,
-        } => print(&import_cmd::import(
+            scale,
+            strict,
+        } => out.text(&import_cmd::import(
             &model,
             &output,
-            animation.as_deref(),
-            fps,
+            &import_cmd::ImportFlags {
+                animation: animation.as_deref(),
+                fps,
+                scale,
+                strict,
+            },
             &registry,
-        )?),
+        )?)?,
         Command::Bake {
             rig,
             frames,
             fps,
             tolerance,
             output,
-        } => print(&bake_cmd::bake_cmd(
+            bake_deformers_as_morphs,
+        } => out.text(&bake_cmd::bake_cmd(
             &rig,
             frames.as_deref(),
             fps,
             tolerance,
             &output,
+            bake_deformers_as_morphs,
             &registry,
-        )?),
+        )?)?,
         Command::Retarget {
             mocap,
             to,
@@ -288,14 +442,14 @@ fn execute(cli: Cli) -> Result<(), String> {
                 blend: plant_blend,
                 ..Default::default()
             };
-            print(&retarget_cmd::retarget_cmd(
+            out.text(&retarget_cmd::retarget_cmd(
                 &mocap,
                 &to,
                 map.as_deref(),
                 &output,
                 &opts,
                 &registry,
-            )?)
+            )?)?
         }
         Command::Skeletonize {
             mesh,
@@ -311,7 +465,7 @@ fn execute(cli: Cli) -> Result<(), String> {
                 max_influences,
                 weights: !no_weights,
             };
-            print(&skeletonize_cmd::skeletonize_cmd(&mesh, &output, &opts, &registry)?)
+            out.text(&skeletonize_cmd::skeletonize_cmd(&mesh, &output, &opts, &registry)?)?
         }
     }
     Ok(())

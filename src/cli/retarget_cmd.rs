@@ -4,6 +4,7 @@
 use std::path::Path;
 use std::sync::Arc;
 
+use sinew_core::files::{read_text, DATA, RIG_TEXT};
 use sinew_core::Registry;
 
 use super::bake_cmd::write_scene;
@@ -21,11 +22,13 @@ pub fn retarget_cmd(
     opts: &RetargetOptions,
     registry: &Arc<Registry>,
 ) -> Result<String, String> {
-    let text = std::fs::read_to_string(mocap).map_err(|e| format!("cannot read {}: {e}", mocap.display()))?;
+    let inputs: Vec<&Path> = [Some(mocap), Some(rig_path), map].into_iter().flatten().collect();
+    super::paths::check_outputs(&inputs, &[out])?;
+    let text = read_text(mocap, DATA).map_err(|e| format!("cannot read {}: {e}", mocap.display()))?;
     let bvh = parse_bvh(&text).map_err(|e| format!("{}:{e}", mocap.display()))?;
     let pairs = match map {
         Some(p) => {
-            let t = std::fs::read_to_string(p).map_err(|e| format!("cannot read {}: {e}", p.display()))?;
+            let t = read_text(p, RIG_TEXT).map_err(|e| format!("cannot read {}: {e}", p.display()))?;
             Some(parse_map(&t, p)?)
         }
         None => None,
@@ -39,6 +42,7 @@ pub fn retarget_cmd(
         fps: report.fps,
         tolerance: 0.0,
         name: "retargeted".into(),
+        deformers_as_morphs: false,
     };
     let (scene, warnings) = bake(&mut graph, &opts)?;
     write_scene(&scene, out)?;

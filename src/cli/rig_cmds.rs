@@ -4,17 +4,28 @@
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use std::time::{Duration, SystemTime};
 
 use sinew_core::rig::{rig_dependencies, to_dot, to_json, LoadedRig};
 use sinew_core::Registry;
 
-use crate::io::mesh_file::{format_rig_file, load_rig};
+use super::output::{CliError, Output};
+use crate::io::mesh_file::load_rig_with_limits;
+use sinew_core::rig::LoadLimits;
 
-/// Loads a rig (with mesh `File(..)` references resolved) or returns its
-/// rendered diagnostics as the error.
+/// The load limits of this process's commands: set once from `--max-nodes` (see
+/// [`set_load_limits`]), the defaults otherwise.
+static LIMITS: std::sync::OnceLock<LoadLimits> = std::sync::OnceLock::new();
+
+/// Sets the limits every later [`load`] uses (the first call wins).
+pub fn set_load_limits(limits: LoadLimits) {
+    let _ = LIMITS.set(limits);
+}
+
+/// Loads a rig (with mesh `File(..)` references resolved, within the `--max-nodes` limit)
+/// or returns its rendered diagnostics as the error. Every command loads rigs with this.
 pub fn load(path: &Path, registry: &Arc<Registry>) -> Result<LoadedRig, String> {
-    load_rig(path, registry).map_err(|d| d.render().trim_end().to_string())
+    let limits = LIMITS.get().copied().unwrap_or_default();
+    load_rig_with_limits(path, registry, limits).map_err(|d| d.render().trim_end().to_string())
 }
 
 /// The one-line summary `sinew check` prints for a valid rig.
@@ -35,36 +46,35 @@ pub fn check(path: &Path, registry: &Arc<Registry>) -> Result<String, String> {
     load(path, registry).map(|rig| summary(path, &rig))
 }
 
-fn stamps(files: &[PathBuf]) -> Vec<Option<SystemTime>> {
-    files
-        .iter()
-        .map(|f| std::fs::metadata(f).and_then(|m| m.modified()).ok())
-        .collect()
-}
-
-/// `sinew check --watch RIG`: re-validates whenever the rig or any component
-/// file it includes changes (polling modification times every 100 ms).
-/// Runs until interrupted, or for `max_runs` validations when given.
-pub fn watch(path: &Path, registry: &Arc<Registry>, max_runs: Option<usize>) -> Result<(), String> {
+/// `sinew check --watch RIG`: re-validates whenever the rig or any component or data
+/// file it uses changes (file events through [`super::watch::FileWatcher`]). Runs until
+/// interrupted, or for `max_runs` validations when given.
+pub fn watch(
+    path: &Path,
+    registry: &Arc<Registry>,
+    max_runs: Option<usize>,
+    out: &mut Output<'_>,
+) -> Result<(), CliError> {
+    let mut watcher = super::watch::FileWatcher::new()?;
     let mut runs = 0;
     loop {
-        let files = rig_dependencies(path);
-        let before = stamps(&files);
         let started = std::time::Instant::now();
-        match check(path, registry) {
-            Ok(s) => println!("{s} ({:.1} ms)", started.elapsed().as_secs_f64() * 1000.0),
-            Err(e) => println!("{e}"),
+        let mut files = rig_dependencies(path);
+        match load(path, registry) {
+            Ok(rig) => {
+                files.extend(rig.document.referenced_files());
+                let ms = started.elapsed().as_secs_f64() * 1000.0;
+                out.text(&format!("{} ({ms:.1} ms)", summary(path, &rig)))?
+            }
+            Err(e) => out.text(&e)?,
         }
         runs += 1;
         if max_runs.is_some_and(|m| runs >= m) {
             return Ok(());
         }
-        loop {
-            std::thread::sleep(Duration::from_millis(100));
-            let files_now = rig_dependencies(path);
-            if files_now != files || stamps(&files_now) != before {
-                break;
-            }
+        watcher.set_files(&files);
+        if !watcher.wait() {
+            return Err(CliError::from("the file watcher stopped".to_string()));
         }
     }
 }
@@ -75,8 +85,10 @@ pub fn fmt(paths: &[PathBuf], check_only: bool, registry: &Arc<Registry>) -> Res
     let mut report = Vec::new();
     let mut bad = Vec::new();
     for p in paths {
-        let formatted = format_rig_file(p, registry).map_err(|d| d.render().trim_end().to_string())?;
-        let current = std::fs::read_to_string(p).map_err(|e| format!("{}: cannot read: {e}", p.display()))?;
+        let rig = load(p, registry)?;
+        let formatted = sinew_core::rig::save_rig(&rig.graph, &rig.document);
+        let current = sinew_core::files::read_text(p, sinew_core::files::RIG_TEXT)
+            .map_err(|e| format!("{}: cannot read: {e}", p.display()))?;
         if current == formatted {
             report.push(format!("{}: already formatted", p.display()));
         } else if check_only {
@@ -97,8 +109,40 @@ pub fn fmt(paths: &[PathBuf], check_only: bool, registry: &Arc<Registry>) -> Res
     }
 }
 
-/// `sinew graph RIG --dot|--json`.
-pub fn graph(path: &Path, json: bool, registry: &Arc<Registry>) -> Result<String, String> {
+/// What `sinew graph` prints.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GraphFormat {
+    /// Graphviz DOT.
+    Dot,
+    /// JSON.
+    Json,
+    /// An SVG picture, laid out by sinew (no Graphviz needed).
+    Svg,
+    /// An HTML page with the SVG, pan, zoom and a node search.
+    Html,
+}
+
+/// `sinew graph RIG --dot|--json|--svg|--html`.
+pub fn graph(path: &Path, format: GraphFormat, registry: &Arc<Registry>) -> Result<String, String> {
     let rig = load(path, registry)?;
-    Ok(if json { to_json(&rig.graph) } else { to_dot(&rig.graph) })
+    match format {
+        GraphFormat::Dot => Ok(to_dot(&rig.graph)),
+        GraphFormat::Json => Ok(to_json(&rig.graph)),
+        GraphFormat::Svg | GraphFormat::Html => picture(path, &rig, format == GraphFormat::Html),
+    }
+}
+
+#[cfg(feature = "view")]
+fn picture(path: &Path, rig: &LoadedRig, html: bool) -> Result<String, String> {
+    let svg = sinew_view::graph_svg::render(&rig.graph, &Default::default())?;
+    Ok(if html {
+        sinew_view::graph_svg::html_page(&path.display().to_string(), &svg)
+    } else {
+        svg
+    })
+}
+
+#[cfg(not(feature = "view"))]
+fn picture(_: &Path, _: &LoadedRig, _: bool) -> Result<String, String> {
+    Err("this sinew was built without the `view` feature; use --dot and Graphviz, or rebuild with it".into())
 }

@@ -5,9 +5,9 @@
 //! Output layout (the same as `sinew import`, see [`RigBuilder`]): `RIG.ron` holds the joint
 //! hierarchy and every connection; its data sidecar `RIG.data.ron` holds the heavy nodes —
 //! the `mesh` shape with the geometry inline and the `skinCluster` with its weights — so
-//! `sinew check`, `eval` and `fmt` load the pair with the ordinary rig loader. (A
-//! `File("mesh.obj")` reference would keep the rig small, but only the facade's
-//! `mesh_file::load_rig` resolves it, not the plain loader the commands use.)
+//! `sinew check`, `eval` and `fmt` load the pair with the ordinary rig loader. A dense
+//! mesh and its weights go to value files (`RIG.data/*.bin`, see
+//! [`crate::io::rig_builder`]), which the plain core loader reads too.
 //!
 //! The skinCluster: `inputGeometry ← <mesh>.outMesh`, `matrix[i] ← joint_i.worldMatrix`,
 //! `bindPreMatrix[i]` = the inverse of joint `i`'s rest world matrix (evaluated from the
@@ -71,6 +71,7 @@ pub fn skeletonize_cmd(
     opts: &SkeletonizeOptions,
     registry: &Arc<Registry>,
 ) -> Result<String, String> {
+    crate::cli::paths::check_rig_output(&[mesh_path], out)?;
     let start = Instant::now();
     let mesh = load_mesh(mesh_path)?;
     let loaded = start.elapsed();
@@ -183,28 +184,25 @@ pub fn skeletonize_cmd(
     Ok(msg)
 }
 
-/// Writes `out` and its data sidecar `<stem>.data.ron` (as [`RigBuilder::write`], with
-/// this command's header line); returns the sidecar path.
+/// Writes `out`, its data sidecar `<stem>.data.ron` and value files (as
+/// [`RigBuilder::write`], with this command's header lines); returns the sidecar path.
 fn write(rig: &RigBuilder, registry: &Registry, out: &Path) -> Result<std::path::PathBuf, String> {
-    let stem = out.file_stem().and_then(|s| s.to_str()).unwrap_or("rig");
-    let data_name = format!("{stem}.data.ron");
-    let data_path = out.with_file_name(&data_name);
-    let (main, data) = rig.to_texts(registry, &data_name)?;
-    let main = match main.split_once('\n') {
-        Some((first, rest)) if first.starts_with("//") => {
-            format!("// Written by `sinew skeletonize`; the mesh and skin weights live in the data file used below.\n{rest}")
-        }
-        _ => main,
+    let mut files = rig.to_files(registry, out)?;
+    let header = |text: &str, first: &str| match text.split_once('\n') {
+        Some((line, rest)) if line.starts_with("//") => format!("{first}\n{rest}"),
+        _ => text.to_string(),
     };
-    let data = match data.split_once('\n') {
-        Some((first, rest)) if first.starts_with("//") => {
-            format!("// Data of a `sinew skeletonize` rig: the mesh and the skinCluster with its weights.\n{rest}")
-        }
-        _ => data,
-    };
-    std::fs::write(out, main).map_err(|e| format!("cannot write {}: {e}", out.display()))?;
-    std::fs::write(&data_path, data).map_err(|e| format!("cannot write {}: {e}", data_path.display()))?;
-    Ok(data_path)
+    files.main = header(
+        &files.main,
+        "// Written by `sinew skeletonize`; the mesh and skin weights live in the data file used below.",
+    );
+    files.data = files.data.as_deref().map(|d| {
+        header(
+            d,
+            "// Data of a `sinew skeletonize` rig: the mesh and the skinCluster with its weights.",
+        )
+    });
+    files.write(out)
 }
 
 fn ms(d: std::time::Duration) -> f64 {
@@ -214,7 +212,7 @@ fn ms(d: std::time::Duration) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::cli::{eval, EvalRequest, Format};
+    use crate::cli::{eval, EvalRequest};
     use glam::{DVec3, Vec3};
     use sinew_nodes::skeletonize::shapes;
 
@@ -287,13 +285,8 @@ mod tests {
         order.sort();
         for (k, (_, n)) in order.iter().enumerate() {
             let req = EvalRequest {
-                rig: out.clone(),
                 frames: Some("1".into()),
-                fps: None,
-                print: vec![format!("{n}.worldMatrix")],
-                set: Vec::new(),
-                format: Format::Csv,
-                lazy: false,
+                ..EvalRequest::new(&out, &[&format!("{n}.worldMatrix")])
             };
             let csv = eval(&req, &registry).unwrap();
             let last = csv.lines().last().unwrap();
@@ -318,7 +311,9 @@ mod tests {
         let Value::Mesh(skinned) = graph.get_path(&format!("{sname}.outputGeometry")).unwrap() else {
             panic!()
         };
-        // (tobj may reorder vertices: compare with the mesh as loaded.)
+        // The OBJ loader keeps the file's vertex order: the mesh as loaded is the mesh written.
+        assert_eq!(loaded.positions, mesh.positions);
+        assert_eq!(loaded.triangles, mesh.triangles);
         assert_eq!(skinned.positions.len(), loaded.positions.len());
         for (a, b) in skinned.positions.iter().zip(&loaded.positions) {
             assert!(a.distance(*b) < 1e-4, "{a} vs {b}");

@@ -10,7 +10,8 @@ use crate::spec::AttrId;
 impl Graph {
     /// Checks the graph's invariants: every connection is recorded at both
     /// ends, sources and destinations are live plugs of compatible types,
-    /// names map to nodes, parents are live, and no plug-level cycle exists.
+    /// names map to nodes, parents are live, every dependency goes up the
+    /// incremental topological order (so no plug-level cycle exists).
     /// Returns a description of the first violation.
     pub fn check_invariants(&self) -> Result<(), String> {
         let mut forward: HashSet<(Plug, Plug)> = HashSet::new();
@@ -24,6 +25,9 @@ impl Graph {
                 }
             }
             let spec = data.spec();
+            if data.attrs.len() != spec.attrs.len() || data.groups.len() != spec.groups().len() {
+                return Err(format!("node {} does not match its spec", data.name));
+            }
             for (a, store) in data.attrs.iter().enumerate() {
                 let multi = spec.attrs[a].multi;
                 if !multi && (store.elems.len() != 1 || store.elems[0].index != 0) {
@@ -73,6 +77,21 @@ impl Graph {
                 ));
             }
             backward.insert((src.whole(), dst));
+        }
+        let mut next = Vec::new();
+        for (id, data) in &self.nodes {
+            for a in 0..data.attrs.len() {
+                let v = (id, AttrId(a as u16));
+                next.clear();
+                self.dependents_into(v, &mut next);
+                if let Some(&w) = next.iter().find(|&&w| self.ord(v) >= self.ord(w)) {
+                    return Err(format!(
+                        "{} depends on {} but does not come after it in the topological order",
+                        self.attr_path(w.0, w.1),
+                        self.attr_path(v.0, v.1)
+                    ));
+                }
+            }
         }
         if forward != backward {
             return Err(format!(

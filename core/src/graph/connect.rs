@@ -4,9 +4,8 @@
 //! connection is an edge from its source attribute to its destination
 //! attribute, and inside a node each input has an edge to every output it
 //! affects (per the spec). Node-level loops are fine as long as this graph
-//! stays acyclic, exactly as in Maya.
-
-use std::collections::HashSet;
+//! stays acyclic, exactly as in Maya. The check keeps an incremental topological order
+//! (`order.rs`), so a connection that goes forward in it costs nothing.
 
 use super::{Graph, NodeId, Plug};
 use crate::error::{Error, Result};
@@ -41,7 +40,7 @@ impl Graph {
                 existing: self.plug_name(existing),
             });
         }
-        if let Some(path) = self.dependency_path((dst.node, dst.attr), (src.node, src.attr)) {
+        if let Err(path) = self.order_for_edge((src.node, src.attr), (dst.node, dst.attr)) {
             // path runs dst attr .. src attr; the cycle is src -> dst -> ... -> src.
             let mut cycle = vec![self.plug_name(src), self.plug_name(dst)];
             cycle.extend(path.iter().skip(1).map(|&(n, a)| self.attr_path(n, a)));
@@ -80,59 +79,6 @@ impl Graph {
         }
     }
 
-    /// A path of attributes from `from` to `to` following dependencies, if any.
-    pub(crate) fn dependency_path(
-        &self,
-        from: (NodeId, AttrId),
-        to: (NodeId, AttrId),
-    ) -> Option<Vec<(NodeId, AttrId)>> {
-        if from == to {
-            return Some(vec![from]);
-        }
-        let mut seen: HashSet<(NodeId, AttrId)> = HashSet::new();
-        // Depth-first with explicit stack of (node-attr, parent index in `trail`).
-        let mut trail: Vec<((NodeId, AttrId), usize)> = vec![(from, usize::MAX)];
-        let mut stack = vec![0usize];
-        seen.insert(from);
-        while let Some(i) = stack.pop() {
-            let (cur, _) = trail[i];
-            for next in self.dependents(cur) {
-                if !seen.insert(next) {
-                    continue;
-                }
-                trail.push((next, i));
-                if next == to {
-                    let mut path = Vec::new();
-                    let mut k = trail.len() - 1;
-                    while k != usize::MAX {
-                        path.push(trail[k].0);
-                        k = trail[k].1;
-                    }
-                    path.reverse();
-                    return Some(path);
-                }
-                stack.push(trail.len() - 1);
-            }
-        }
-        None
-    }
-
-    /// Attributes that directly depend on `(node, attr)`.
-    fn dependents(&self, (node, attr): (NodeId, AttrId)) -> Vec<(NodeId, AttrId)> {
-        let Some(data) = self.nodes.get(node) else {
-            return Vec::new();
-        };
-        let spec = data.spec();
-        let mut out = Vec::new();
-        for &g in spec.groups_affected_by(attr) {
-            out.extend(spec.groups()[g as usize].outputs.iter().map(|&o| (node, o)));
-        }
-        for e in &data.attrs[attr.index()].elems {
-            out.extend(e.dests.iter().map(|d| (d.node, d.attr)));
-        }
-        out
-    }
-
     /// Adds the connection to both ends' bookkeeping (no checks).
     pub(crate) fn link(&mut self, src: Plug, dst: Plug) {
         let rev = self.bump();
@@ -156,7 +102,7 @@ impl Graph {
                     }
                 }
             }
-            self.push_dirty(src.node, src.attr);
+            self.push_dirty_plug(src);
         }
         let k = self.nodes[src.node].attrs[src.attr.index()]
             .find(src.elem())
@@ -180,7 +126,7 @@ impl Graph {
         for &g in kind.spec().groups_affected_by(dst.attr) {
             dst_data.groups[g as usize].force = true;
         }
-        self.push_dirty(dst.node, dst.attr);
+        self.push_dirty_plug(dst);
     }
 
     /// Disconnects `src` from `dst`. The destination keeps the value it had
@@ -256,7 +202,7 @@ impl Graph {
             if d.parent.is_some() && spec.dag.as_ref().is_some_and(|dag| dag.parent_matrix == dst.attr) {
                 d.parent = None;
             }
-            self.push_dirty(dst.node, dst.attr);
+            self.push_dirty_plug(dst);
         }
     }
 
@@ -355,12 +301,8 @@ impl Graph {
         let Some(pdag) = pd.spec().dag.clone() else {
             return Err(bad(format!("type {} has no DAG hookup", pd.type_name)));
         };
-        let mut p = Some(parent);
-        while let Some(x) = p {
-            if x == child {
-                return Err(bad("the parent is the child itself or one of its descendants".into()));
-            }
-            p = self.parent_of(x);
+        if self.is_dag_ancestor(child, parent) {
+            return Err(bad("the parent is the child itself or one of its descendants".into()));
         }
         let mut new_links = vec![(
             Plug::new(parent, pdag.world_matrix),
@@ -384,7 +326,7 @@ impl Graph {
             }
         }
         for &(src, dst) in &new_links {
-            if let Some(path) = self.dependency_path((child, dst.attr), (parent, src.attr)) {
+            if let Err(path) = self.order_for_edge((parent, src.attr), (child, dst.attr)) {
                 let mut cycle: Vec<String> = vec![self.plug_name(src)];
                 cycle.extend(path.iter().map(|&(n, a)| self.attr_path(n, a)));
                 return Err(Error::Cycle {
@@ -404,6 +346,33 @@ impl Graph {
             n.parent = Some(parent);
         }
         Ok(())
+    }
+
+    /// Whether `ancestor` is `node` or one of its DAG ancestors. Walks up from `node`, but
+    /// when every DAG node type's world matrix depends on its parent matrix (true of all
+    /// standard types), stops at the first ancestor whose world matrix comes before
+    /// `ancestor`'s in the topological order: its own ancestors come earlier still, so
+    /// none of them is `ancestor`. Parenting a new node under the end of a long chain
+    /// therefore costs one step, not the chain's depth.
+    fn is_dag_ancestor(&self, ancestor: NodeId, node: NodeId) -> bool {
+        let world = |n: NodeId| -> Option<u64> {
+            let dag = self.node_spec(n)?.dag.as_ref()?;
+            Some(self.ord((n, dag.world_matrix)))
+        };
+        let target = world(ancestor).filter(|_| self.dag_worlds_follow_parents);
+        let mut p = Some(node);
+        while let Some(x) = p {
+            if x == ancestor {
+                return true;
+            }
+            if let (Some(t), Some(o)) = (target, world(x)) {
+                if o < t {
+                    return false;
+                }
+            }
+            p = self.parent_of(x);
+        }
+        false
     }
 
     /// `node.attr` for an attribute (no element, no component), for cycle listings.

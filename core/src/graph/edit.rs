@@ -1,5 +1,6 @@
 //! Graph edits: adding, removing and renaming nodes, and setting input values.
 
+use super::custom_edit::elem_links;
 use super::store::{AttrStore, Elem, GroupState};
 use super::{Graph, NodeData, NodeId, Plug};
 use crate::error::{Error, Result};
@@ -43,6 +44,7 @@ impl Graph {
                 } else {
                     vec![Elem::new(0, a.default.clone())]
                 },
+                ord: 0,
             })
             .collect();
         let groups = vec![GroupState::default(); spec.groups().len()];
@@ -50,6 +52,7 @@ impl Graph {
         let data = NodeData {
             name: name.to_string(),
             type_name: type_name.to_string(),
+            base: kind.clone(),
             kind,
             attrs,
             groups,
@@ -58,6 +61,7 @@ impl Graph {
         };
         let id = self.nodes.insert(data);
         self.names.insert(name.to_string(), id);
+        self.place_new_node(id);
         self.bump();
         Ok(id)
     }
@@ -69,25 +73,7 @@ impl Graph {
         for (a, store) in data.attrs.iter().enumerate() {
             for e in &store.elems {
                 let here = Plug::element(id, crate::spec::AttrId(a as u16), data.spec().attrs[a].multi, e.index);
-                if let Some(s) = e.source {
-                    links.push((s, here));
-                }
-                if let Some(cs) = &e.comp_sources {
-                    for (k, s) in cs.iter().enumerate() {
-                        if let Some(s) = s {
-                            links.push((*s, here.component(k as u8)));
-                        }
-                    }
-                }
-                for d in &e.dests {
-                    links.push((
-                        Plug {
-                            component: None,
-                            ..here
-                        },
-                        *d,
-                    ));
-                }
+                links.extend(elem_links(here, e));
             }
         }
         let children: Vec<NodeId> = self
@@ -163,6 +149,15 @@ impl Graph {
                 plug: self.plug_name(plug),
             });
         }
+        if let (None, Some(x)) = (plug.component, value.as_f64()) {
+            if let Some(reason) = a.out_of_range(x) {
+                return Err(Error::OutOfRange {
+                    plug: self.plug_name(plug),
+                    value: x,
+                    reason,
+                });
+            }
+        }
         if let Some(e) = data.attrs[plug.attr.index()]
             .find(plug.elem())
             .map(|k| &data.attrs[plug.attr.index()].elems[k])
@@ -208,7 +203,7 @@ impl Graph {
             e.value = new;
             e.changed_at = rev;
         }
-        self.push_dirty(plug.node, plug.attr);
+        self.push_dirty_plug(plug);
         Ok(())
     }
 
@@ -230,6 +225,47 @@ impl Graph {
         }
     }
 
+    /// Creates the missing elements `indices` of a multi attribute with the attribute's
+    /// default value, in one sorted merge: linear in the elements whatever order `indices`
+    /// come in (creating them one by one in descending order would move every later
+    /// element each time). The loader calls it before setting and connecting a file's
+    /// elements. Indices above [`super::MAX_ELEMENT_INDEX`] and non-multi attributes are
+    /// ignored (setting or connecting them reports the error).
+    pub(crate) fn reserve_elements(&mut self, node: NodeId, attr: crate::spec::AttrId, mut indices: Vec<u32>) {
+        let Some(data) = self.nodes.get_mut(node) else { return };
+        let kind = data.kind.clone();
+        let spec = kind.spec();
+        let Some(a) = spec.attrs.get(attr.index()).filter(|a| a.multi) else {
+            return;
+        };
+        indices.retain(|&i| i <= super::MAX_ELEMENT_INDEX);
+        indices.sort_unstable();
+        indices.dedup();
+        let store = &mut data.attrs[attr.index()];
+        indices.retain(|&i| store.find(i).is_none());
+        if indices.is_empty() {
+            return;
+        }
+        let old = std::mem::take(&mut store.elems);
+        let mut merged = Vec::with_capacity(old.len() + indices.len());
+        let mut new = indices.into_iter().peekable();
+        for e in old {
+            while let Some(i) = new.next_if(|&i| i < e.index) {
+                merged.push(Elem::new(i, a.default.clone()));
+            }
+            merged.push(e);
+        }
+        merged.extend(new.map(|i| Elem::new(i, a.default.clone())));
+        store.elems = merged;
+        // A new output element is filled by its group's next compute.
+        if let Some(g) = spec.group_of(attr) {
+            let gs = &mut data.groups[g as usize];
+            gs.force = true;
+            gs.dirty = true;
+        }
+        self.bump();
+    }
+
     /// Removes element `index` of a multi input (disconnecting it first).
     pub fn remove_element(&mut self, node: NodeId, attr: crate::spec::AttrId, index: u32) -> Result<()> {
         let plug = Plug {
@@ -244,21 +280,7 @@ impl Graph {
         let Some(k) = store.find(index) else {
             return Ok(());
         };
-        let e = &store.elems[k];
-        let mut links = Vec::new();
-        if let Some(s) = e.source {
-            links.push((s, plug));
-        }
-        if let Some(cs) = &e.comp_sources {
-            for (c, s) in cs.iter().enumerate() {
-                if let Some(s) = s {
-                    links.push((*s, plug.component(c as u8)));
-                }
-            }
-        }
-        for d in &e.dests {
-            links.push((plug, *d));
-        }
+        let links = elem_links(plug, &store.elems[k]);
         for (s, d) in links {
             self.unlink(s, d);
         }

@@ -37,24 +37,45 @@ impl Graph {
         self.stats = EvalStats::default();
     }
 
-    /// Marks everything downstream of `(node, attr)` dirty.
+    /// Marks everything downstream of `(node, attr)` dirty (every element of a multi).
     pub(crate) fn push_dirty(&mut self, node: NodeId, attr: AttrId) {
-        let mut stack = vec![(node, attr)];
-        while let Some((n, a)) = stack.pop() {
+        self.push_dirty_from(node, attr, None);
+    }
+
+    /// Marks everything downstream of one plug dirty: the groups reading its attribute and
+    /// what that element feeds (not the other elements of a multi, so setting or
+    /// connecting the elements of a large multi one by one is linear overall).
+    pub(crate) fn push_dirty_plug(&mut self, plug: Plug) {
+        self.push_dirty_from(plug.node, plug.attr, Some(plug.elem()));
+    }
+
+    /// Marks dirty downstream of element `elem` of `(node, attr)`, or of all its elements.
+    fn push_dirty_from(&mut self, node: NodeId, attr: AttrId, elem: Option<u32>) {
+        let mut stack = vec![(node, attr, elem)];
+        while let Some((n, a, elem)) = stack.pop() {
             let Some(data) = self.nodes.get_mut(n) else { continue };
             let kind = data.kind.clone();
             let spec = kind.spec();
-            // Inputs feed the groups that read them; outputs may feed other
-            // groups of the same node (precomputed data).
+            // Inputs feed the groups that read them; outputs may feed other groups of the
+            // same node (precomputed data). A group's outputs are pushed whole, once: the
+            // push stops at groups already dirty.
             for &g in spec.groups_affected_by(a) {
                 let gs = &mut data.groups[g as usize];
                 if !gs.dirty {
                     gs.dirty = true;
-                    stack.extend(spec.groups()[g as usize].outputs.iter().map(|&o| (n, o)));
+                    stack.extend(spec.groups()[g as usize].outputs.iter().map(|&o| (n, o, None)));
                 }
             }
-            for e in &data.attrs[a.index()].elems {
-                stack.extend(e.dests.iter().map(|d| (d.node, d.attr)));
+            let store = &data.attrs[a.index()];
+            let elems = match elem {
+                None => &store.elems[..],
+                Some(i) => match store.find(i) {
+                    Some(k) => &store.elems[k..=k],
+                    None => &[],
+                },
+            };
+            for e in elems {
+                stack.extend(e.dests.iter().map(|d| (d.node, d.attr, Some(d.elem()))));
             }
         }
     }

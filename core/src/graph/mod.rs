@@ -1,15 +1,17 @@
 //! The lazy dependency graph: nodes (slotmap handles), attribute values,
 //! connections, DAG parenting, and name-based plug paths.
 //!
-//! Edits live in `edit.rs` (add/remove/rename/set), connections and cycle
-//! detection in `connect.rs`, dirty propagation and pull evaluation in
-//! `eval.rs`. Invariant kept by every operation: no plug-level cycle exists,
+//! Edits live in `edit.rs` (add/remove/rename/set), connections in `connect.rs`,
+//! cycle detection with an incremental topological order in `order.rs`, dirty
+//! propagation and pull evaluation in `eval.rs`. Invariant kept by every operation: no plug-level cycle exists,
 //! and a failed operation leaves the graph exactly as it was.
 
 mod check;
 mod connect;
+mod custom_edit;
 mod edit;
 mod eval;
+mod order;
 pub(crate) mod store;
 
 use std::collections::HashMap;
@@ -26,6 +28,14 @@ use crate::value::AttrType;
 use store::{AttrStore, GroupState};
 
 pub use eval::EvalStats;
+
+/// The largest element index of a multi attribute: 1,048,575 (2^20 − 1). Nodes may size
+/// arrays by the largest element index (a `skinCluster`'s palette holds `index + 1`
+/// matrices, because skin weights name joints by index), so this limit bounds what one
+/// sparse index can make a node allocate (a palette of at most 2^20 matrices, 128 MiB).
+/// Setting, connecting or naming a larger index is an error, and the rig loader reports it
+/// at its `file:line:col`.
+pub const MAX_ELEMENT_INDEX: u32 = (1 << 20) - 1;
 
 slotmap::new_key_type! {
     /// A stable handle to a node; stays valid until the node is removed.
@@ -101,7 +111,11 @@ impl Plug {
 pub(crate) struct NodeData {
     pub name: String,
     pub type_name: String,
+    /// The node's type: `base`, or a [`crate::CustomNode`] over it when the node has
+    /// custom attributes.
     pub kind: Arc<dyn NodeType>,
+    /// The registered node type.
+    pub base: Arc<dyn NodeType>,
     pub attrs: Vec<AttrStore>,
     pub groups: Vec<GroupState>,
     pub parent: Option<NodeId>,
@@ -120,6 +134,11 @@ pub struct Graph {
     pub(crate) nodes: SlotMap<NodeId, NodeData>,
     names: HashMap<String, NodeId>,
     next_order: u64,
+    /// The last position given in the topological order of attributes (see `order.rs`).
+    pub(crate) next_ord: u64,
+    /// Every DAG node type of the registry computes its world matrix from its parent
+    /// matrix (so a DAG ancestor's world matrix comes first in the topological order).
+    pub(crate) dag_worlds_follow_parents: bool,
     pub(crate) time: Time,
     pub(crate) time_changed_at: u64,
     pub(crate) revision: u64,
@@ -138,11 +157,19 @@ impl std::fmt::Debug for Graph {
 impl Graph {
     /// An empty graph whose node types come from `registry`.
     pub fn new(registry: Arc<Registry>) -> Self {
+        let dag_worlds_follow_parents = registry.specs().all(|spec| {
+            spec.dag.as_ref().is_none_or(|dag| {
+                spec.group_of(dag.world_matrix)
+                    .is_some_and(|g| spec.groups()[g as usize].inputs.contains(&dag.parent_matrix))
+            })
+        });
         Graph {
+            dag_worlds_follow_parents,
             registry,
             nodes: SlotMap::with_key(),
             names: HashMap::new(),
             next_order: 0,
+            next_ord: 0,
             time: Time::default(),
             time_changed_at: 0,
             revision: 1,
@@ -269,6 +296,9 @@ impl Graph {
                 "{} is a multi attribute; address an element like {}[0]",
                 a.name, a.name
             )),
+            (true, Some(i)) if i > MAX_ELEMENT_INDEX => Some(format!(
+                "element index {i} is above the limit of {MAX_ELEMENT_INDEX} (2^20 - 1); number the elements from 0"
+            )),
             (false, Some(_)) => Some(format!("{} is not a multi attribute; drop the [index]", a.name)),
             _ => None,
         };
@@ -333,3 +363,5 @@ impl Graph {
 
 #[cfg(test)]
 pub(crate) mod tests;
+#[cfg(test)]
+mod tests_custom;

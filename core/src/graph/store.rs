@@ -48,6 +48,10 @@ impl Elem {
 #[derive(Clone, Debug, Default)]
 pub(crate) struct AttrStore {
     pub elems: Vec<Elem>,
+    /// The attribute's position in the graph's topological order (`order.rs`): every
+    /// dependency edge goes from a lower to a higher position. Given by
+    /// `Graph::place_new_node` when the node is added.
+    pub ord: u64,
 }
 
 impl AttrStore {

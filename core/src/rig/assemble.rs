@@ -14,7 +14,15 @@ use crate::registry::Registry;
 use crate::spec::AttrId;
 use crate::value::AttrType;
 
-fn resolve(graph: &Graph, path: &str, span: &Span, broken: &HashSet<&str>, diags: &mut Diagnostics) -> Option<Plug> {
+/// Names a reference may miss without an error of its own: nodes of `Use`s in error,
+/// and (with `opaque`) any unknown node, counted in `hidden`.
+struct Quiet<'a> {
+    broken: HashSet<&'a str>,
+    opaque: bool,
+    hidden: &'a mut usize,
+}
+
+fn resolve(graph: &Graph, path: &str, span: &Span, quiet: &mut Quiet<'_>, diags: &mut Diagnostics) -> Option<Plug> {
     let parts = match parse_plug_path(path) {
         Ok(p) => p,
         Err(e) => {
@@ -25,11 +33,15 @@ fn resolve(graph: &Graph, path: &str, span: &Span, broken: &HashSet<&str>, diags
             return None;
         }
     };
-    if broken.contains(parts.node) {
+    if quiet.broken.contains(parts.node) {
         return None;
     }
     match graph.plug(path) {
         Ok(p) => Some(p),
+        Err(Error::UnknownNode { .. }) if quiet.opaque => {
+            *quiet.hidden += 1;
+            None
+        }
         Err(Error::UnknownNode { name, suggestion }) => {
             let hint = match suggestion {
                 Some(s) => format!("did you mean `{s}`?"),
@@ -67,10 +79,48 @@ fn resolve(graph: &Graph, path: &str, span: &Span, broken: &HashSet<&str>, diags
 
 type EdgeKey = (NodeId, AttrId, NodeId, AttrId);
 
-pub(super) fn build_graph(flat: &Flat, registry: &Arc<Registry>, diags: &mut Diagnostics) -> Graph {
+/// `nodes` in reverse depth-first postorder of the `edges` among them: an order where
+/// every edge goes forward when the node-level graph is acyclic (node-level loops are
+/// allowed; they leave some edges backward). Linear in nodes and edges.
+fn node_order(nodes: &[NodeId], edges: impl Iterator<Item = (NodeId, NodeId)>) -> Vec<NodeId> {
+    let index: HashMap<NodeId, usize> = nodes.iter().enumerate().map(|(k, &n)| (n, k)).collect();
+    let mut succ: Vec<Vec<usize>> = vec![Vec::new(); nodes.len()];
+    for (a, b) in edges {
+        if let (Some(&a), Some(&b)) = (index.get(&a), index.get(&b)) {
+            succ[a].push(b);
+        }
+    }
+    let mut visited = vec![false; nodes.len()];
+    let mut post = Vec::with_capacity(nodes.len());
+    let mut stack: Vec<(usize, usize)> = Vec::new();
+    for root in 0..nodes.len() {
+        if std::mem::replace(&mut visited[root], true) {
+            continue;
+        }
+        stack.push((root, 0));
+        while let Some((v, k)) = stack.pop() {
+            if let Some(&w) = succ[v].get(k) {
+                stack.push((v, k + 1));
+                if !std::mem::replace(&mut visited[w], true) {
+                    stack.push((w, 0));
+                }
+            } else {
+                post.push(nodes[v]);
+            }
+        }
+    }
+    post.reverse();
+    post
+}
+
+pub(super) fn build_graph(flat: &Flat, registry: &Arc<Registry>, diags: &mut Diagnostics, hidden: &mut usize) -> Graph {
     let mut g = Graph::new(registry.clone());
     let mut first: HashMap<&str, &FlatNode> = HashMap::new();
-    let mut broken: HashSet<&str> = HashSet::new();
+    let mut quiet = Quiet {
+        broken: flat.suppressed.iter().map(String::as_str).collect(),
+        opaque: flat.opaque.is_some(),
+        hidden,
+    };
     let mut ids: Vec<Option<NodeId>> = Vec::with_capacity(flat.nodes.len());
     for n in &flat.nodes {
         let at = n.via.clone().unwrap_or_else(|| n.span.clone());
@@ -84,12 +134,19 @@ pub(super) fn build_graph(flat: &Flat, registry: &Arc<Registry>, diags: &mut Dia
         }
         first.insert(&n.name, n);
         if n.kind.is_none() {
-            broken.insert(&n.name);
+            quiet.broken.insert(&n.name);
             ids.push(None);
             continue;
         }
         match g.add_node(&n.type_name, &n.name) {
-            Ok(id) => ids.push(Some(id)),
+            Ok(id) => {
+                for (decl, span) in &n.custom {
+                    if let Err(e) = g.add_attr(id, decl.clone()) {
+                        diags.push(Diagnostic::new(span.clone(), e.to_string()).hint("check the declaration"));
+                    }
+                }
+                ids.push(Some(id))
+            }
             Err(e) => {
                 let mut d = Diagnostic::new(n.span.clone(), e.to_string())
                     .hint("node names are letters, digits and '_', not starting with a digit");
@@ -97,11 +154,54 @@ pub(super) fn build_graph(flat: &Flat, registry: &Arc<Registry>, diags: &mut Dia
                     d = d.note(v.clone(), "created by this Use");
                 }
                 diags.push(d);
-                broken.insert(&n.name);
+                quiet.broken.insert(&n.name);
                 ids.push(None);
             }
         }
     }
+    // Connections are resolved by name once all nodes exist.
+    let resolved: Vec<(Option<Plug>, Option<Plug>)> = flat
+        .conns
+        .iter()
+        .map(|c| {
+            (
+                resolve(&g, &c.src, &c.src_span, &mut quiet, diags),
+                resolve(&g, &c.dst, &c.dst_span, &mut quiet, diags),
+            )
+        })
+        .collect();
+    // The elements of multi attributes the file writes or connects, created in one merge
+    // per attribute (in whatever order the file lists them).
+    let mut elements: HashMap<(NodeId, AttrId), Vec<u32>> = HashMap::new();
+    for (n, id) in flat.nodes.iter().zip(&ids) {
+        let Some(id) = *id else { continue };
+        for v in &n.values {
+            if let Some(i) = v.index {
+                elements.entry((id, v.attr)).or_default().push(i);
+            }
+        }
+    }
+    for p in resolved.iter().flat_map(|(s, d)| [s, d]).flatten() {
+        if let Some(i) = p.index {
+            elements.entry((p.node, p.attr)).or_default().push(i);
+        }
+    }
+    for ((node, attr), indices) in elements {
+        g.reserve_elements(node, attr, indices);
+    }
+    // Positions in the topological order by the node-level graph of parents and
+    // connections, so that parenting and connecting mostly go forward in it and cost
+    // nothing, whatever order the file lists its nodes in.
+    let parent_edges = flat.nodes.iter().zip(&ids).filter_map(|(n, id)| {
+        let (child, (p, _)) = ((*id)?, n.parent.as_ref()?);
+        Some((g.find_node(p)?, child))
+    });
+    let conn_edges = resolved
+        .iter()
+        .filter_map(|(s, d)| Some((s.as_ref()?.node, d.as_ref()?.node)));
+    let created: Vec<NodeId> = ids.iter().flatten().copied().collect();
+    let order = node_order(&created, parent_edges.chain(conn_edges));
+    g.renumber_unconnected(&order);
     for (n, id) in flat.nodes.iter().zip(&ids) {
         let Some(id) = *id else { continue };
         for v in &n.values {
@@ -121,10 +221,14 @@ pub(super) fn build_graph(flat: &Flat, registry: &Arc<Registry>, diags: &mut Dia
         let (Some(id), Some((p, pspan))) = (*id, &n.parent) else {
             continue;
         };
-        if broken.contains(p.as_str()) {
+        if quiet.broken.contains(p.as_str()) {
             continue;
         }
         let Some(pid) = g.find_node(p) else {
+            if quiet.opaque {
+                *quiet.hidden += 1;
+                continue;
+            }
             let hint = match nearest(p, first.keys().copied()) {
                 Some(s) => format!("did you mean `{s}`?"),
                 None => "parent names a node of this rig".into(),
@@ -151,9 +255,7 @@ pub(super) fn build_graph(flat: &Flat, registry: &Arc<Registry>, diags: &mut Dia
             ),
         }
     }
-    for c in &flat.conns {
-        let s = resolve(&g, &c.src, &c.src_span, &broken, diags);
-        let d = resolve(&g, &c.dst, &c.dst_span, &broken, diags);
+    for (c, &(s, d)) in flat.conns.iter().zip(&resolved) {
         let (Some(s), Some(d)) = (s, d) else { continue };
         let text = format!("{} -> {}", g.plug_name(s), g.plug_name(d));
         match g.connect(s, d) {

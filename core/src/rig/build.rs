@@ -18,8 +18,9 @@ use super::mirror::{mirror_value, MirrorContext};
 use super::parse::{parse, Ast, Node};
 use super::source::{normalize, FsSource, RigSource};
 use super::typed::{example, read_value};
+use crate::custom::CustomNode;
 use crate::error::nearest;
-use crate::graph::Graph;
+use crate::graph::{Graph, MAX_ELEMENT_INDEX};
 use crate::node::{NodeType, Time};
 use crate::path::{parse_plug_path, resolve_attr, AttrLookupError};
 use crate::registry::Registry;
@@ -50,6 +51,8 @@ pub(crate) struct RecNode {
     pub type_name: String,
     pub parent: Option<String>,
     pub values: Vec<(AttrId, Option<u32>, Value)>,
+    /// Custom attributes the use declared on the node.
+    pub custom: Vec<AttrSpec>,
 }
 
 /// What one top-level `Use` created: nodes and (canonical) connections.
@@ -73,7 +76,12 @@ pub(super) struct FlatNode {
     pub(super) kind: Option<Arc<dyn NodeType>>,
     pub(super) parent: Option<(String, Span)>,
     pub(super) values: Vec<FlatVal>,
+    /// Position in `values` of each (attribute, element) written, so merging the
+    /// elements of a large multi one by one is linear.
+    pub(super) value_index: HashMap<(AttrId, Option<u32>), usize>,
     pub(super) via: Option<Span>,
+    /// Custom attributes (`attrs: {..}`), each with its position; `kind` already has them.
+    pub(super) custom: Vec<(AttrSpec, Span)>,
 }
 
 #[derive(Clone)]
@@ -88,6 +96,19 @@ pub(super) struct FlatConn {
 pub(super) struct Flat {
     pub(super) nodes: Vec<FlatNode>,
     pub(super) conns: Vec<FlatConn>,
+    /// Names a `Use` in error would have created: references to them report nothing
+    /// more (the `Use`'s own error is the cause).
+    pub(super) suppressed: HashSet<String>,
+    /// A `Use` whose file or component is missing (the index of that error): it defines
+    /// names nobody knows, so references to unknown nodes are counted, not reported.
+    pub(super) opaque: Option<usize>,
+}
+
+impl Flat {
+    fn absorb(&mut self, other: &Flat) {
+        self.suppressed.extend(other.suppressed.iter().cloned());
+        self.opaque = self.opaque.or(other.opaque);
+    }
 }
 
 struct FileDoc {
@@ -95,11 +116,43 @@ struct FileDoc {
     doc: RigDocument,
 }
 
+/// The default of [`LoadLimits::max_nodes`]: 250,000 nodes (a joint takes about 10 KB in
+/// the graph, so 2.5 GB).
+pub const DEFAULT_MAX_NODES: usize = 250_000;
+
+/// Limits on what loading a rig may build, so a small file cannot make the loader work
+/// without end (a component that uses another twice, nested 24 deep, is 2^24 nodes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LoadLimits {
+    /// The most nodes a rig may expand to: its own plus those of every component instance
+    /// (default [`DEFAULT_MAX_NODES`]). Past it, loading stops with an error naming the
+    /// chain of `Use`s being expanded (`sinew --max-nodes N` raises it).
+    pub max_nodes: usize,
+}
+
+impl Default for LoadLimits {
+    fn default() -> Self {
+        LoadLimits {
+            max_nodes: DEFAULT_MAX_NODES,
+        }
+    }
+}
+
 struct Expander<'a> {
     registry: &'a Registry,
     source: &'a dyn RigSource,
+    limits: LoadLimits,
+    /// Nodes created so far by the expansion (every instance counts).
+    created: usize,
+    /// The node limit was passed: expansion stops.
+    over_limit: bool,
+    /// The root rig's path and text (given to the loader, not read through `source`).
+    root: (Arc<Path>, &'a str),
     diags: Diagnostics,
-    files: HashMap<PathBuf, Option<Rc<FileDoc>>>,
+    /// Files read: the document, or the index of the error that reading it gave.
+    files: HashMap<PathBuf, Result<Rc<FileDoc>, usize>>,
+    /// References to unknown nodes not reported because of an opaque `Use`.
+    hidden: usize,
     deps: Vec<PathBuf>,
     /// Values read from `File("...")` references, with the file (see `RigDocument`).
     file_values: std::cell::RefCell<Vec<(Value, PathBuf)>>,
@@ -150,7 +203,7 @@ impl<'a> Expander<'a> {
         }
     }
 
-    fn load_file(&mut self, path: &Path, at: &Span) -> Option<Rc<FileDoc>> {
+    fn load_file(&mut self, path: &Path, at: &Span) -> Result<Rc<FileDoc>, usize> {
         let key = normalize(path);
         if let Some(c) = self.files.get(&key) {
             return c.clone();
@@ -159,26 +212,34 @@ impl<'a> Expander<'a> {
         let text = match self.source.read(&key) {
             Ok(t) => t,
             Err(e) => {
+                let dir = key.parent().unwrap_or(Path::new(""));
+                let wanted = key.file_name().and_then(|f| f.to_str()).unwrap_or("");
+                let names = self.source.file_names(dir);
+                let hint = match nearest(wanted, names.iter().map(String::as_str).filter(|n| *n != wanted)) {
+                    Some(s) => format!("did you mean `{s}`? file paths are relative to the file that uses them"),
+                    None => "file paths are relative to the file that uses them".to_string(),
+                };
                 self.diags.push(
                     Diagnostic::new(
                         at.clone(),
                         format!("cannot read component file `{}`: {e}", key.display()),
                     )
-                    .hint("file paths are relative to the file that uses them"),
+                    .hint(hint),
                 );
-                self.files.insert(key, None);
-                return None;
+                let r = Err(self.diags.len() - 1);
+                self.files.insert(key, r.clone());
+                return r;
             }
         };
         let fpath: Arc<Path> = Arc::from(key.as_path());
         let fd = match parse(&text, &fpath) {
             Ok(root) => {
                 let doc = read_document(&root, &fpath, &mut self.diags);
-                Some(Rc::new(FileDoc { path: fpath, doc }))
+                Ok(Rc::new(FileDoc { path: fpath, doc }))
             }
             Err(d) => {
                 self.diags.push(d);
-                None
+                Err(self.diags.len() - 1)
             }
         };
         self.files.insert(key, fd.clone());
@@ -192,16 +253,16 @@ impl<'a> Expander<'a> {
     /// Merges one authored value into a flat node (component writes update the whole value).
     fn put(node: &mut FlatNode, attr: AttrId, index: Option<u32>, comp: Option<u8>, value: Value, span: Span) {
         let Some(spec) = Self::spec_of(&node.kind) else { return };
-        let default = spec.attr(attr).default.clone();
-        let k = match node.values.iter().position(|v| v.attr == attr && v.index == index) {
-            Some(k) => k,
+        let k = match node.value_index.get(&(attr, index)) {
+            Some(&k) => k,
             None => {
                 node.values.push(FlatVal {
                     attr,
                     index,
-                    value: default,
+                    value: spec.attr(attr).default.clone(),
                     span: span.clone(),
                 });
+                node.value_index.insert((attr, index), node.values.len() - 1);
                 node.values.len() - 1
             }
         };
@@ -251,12 +312,42 @@ impl<'a> Expander<'a> {
         }
         if a.multi {
             let entries: Vec<(u32, &Node)> = match &value.kind {
-                super::parse::Ast::List(items) => items.iter().enumerate().map(|(i, n)| (i as u32, n)).collect(),
+                super::parse::Ast::List(items) => {
+                    if let Some(n) = items.get(MAX_ELEMENT_INDEX as usize + 1) {
+                        self.diags.push(
+                            Diagnostic::new(
+                                n.span.clone(),
+                                format!(
+                                    "{what}: more than {} elements; element indices are at most {MAX_ELEMENT_INDEX}",
+                                    MAX_ELEMENT_INDEX as u64 + 1
+                                ),
+                            )
+                            .hint("a multi attribute holds at most 2^20 elements; use an array attribute for more"),
+                        );
+                    }
+                    items
+                        .iter()
+                        .take(MAX_ELEMENT_INDEX as usize + 1)
+                        .enumerate()
+                        .map(|(i, n)| (i as u32, n))
+                        .collect()
+                }
                 super::parse::Ast::Map(items) => {
                     let mut v = Vec::new();
                     for (k, n) in items {
                         match k.kind {
-                            super::parse::Ast::Int(i) if (0..=u32::MAX as i64).contains(&i) => v.push((i as u32, n)),
+                            super::parse::Ast::Int(i) if (0..=MAX_ELEMENT_INDEX as i64).contains(&i) => {
+                                v.push((i as u32, n))
+                            }
+                            super::parse::Ast::Int(i) if i > 0 => self.diags.push(
+                                Diagnostic::new(
+                                    k.span.clone(),
+                                    format!(
+                                        "{what}: element index {i} is above the limit of {MAX_ELEMENT_INDEX} (2^20 - 1)"
+                                    ),
+                                )
+                                .hint("number the elements from 0; nodes size arrays by the largest index"),
+                            ),
                             _ => self.diags.push(
                                 Diagnostic::new(
                                     k.span.clone(),
@@ -299,9 +390,132 @@ impl<'a> Expander<'a> {
             return;
         }
         match self.read_attr_value(value, a.ty, Some(&a), &what) {
-            Ok(v) => Self::put(node, attr, None, None, v, value.span.clone()),
+            Ok(v) => match node.kind.as_ref().map(|k| k.check_input(attr, &v)) {
+                Some(Err(e)) => {
+                    let span = e
+                        .offset
+                        .map_or(value.span.clone(), |off| self.span_in_string(value, off));
+                    let mut d = Diagnostic::new(span, format!("{what}: {}", e.message));
+                    if let Some(h) = e.hint {
+                        d = d.hint(h);
+                    }
+                    self.diags.push(d);
+                }
+                _ => Self::put(node, attr, None, None, v, value.span.clone()),
+            },
             Err(d) => self.diags.push(d),
         }
+    }
+
+    /// Reads `attrs: {..}` into the node: each declaration is checked against the node's
+    /// type (name clashes, the type's acceptance) and the node's type gets the valid ones,
+    /// so its other fields may set them.
+    fn custom_attrs(&mut self, node: &mut FlatNode, v: &Node) {
+        let decls = super::custom_decl::read_attrs(v, &mut self.diags);
+        let Some(base) = node.kind.clone() else { return };
+        let mut ok: Vec<(AttrSpec, Span)> = Vec::new();
+        for (d, span) in decls {
+            let mut trial: Vec<AttrSpec> = ok.iter().map(|(a, _)| a.clone()).collect();
+            trial.push(d.clone());
+            match CustomNode::new(base.clone(), &trial) {
+                Ok(kind) => {
+                    node.kind = Some(Arc::new(kind));
+                    ok.push((d, span));
+                }
+                Err(e) => self.diags.push(
+                    Diagnostic::new(span, format!("custom attribute `{}`: {}", d.name, e.message))
+                        .hint(format!("`sinew nodes {}` lists the type's attributes", node.type_name)),
+                ),
+            }
+        }
+        node.custom = ok;
+    }
+
+    /// The file position of byte `offset` of the string value written at `lit` (a `".."`
+    /// or raw `r#".."#` literal): the file is read again and the literal walked, escapes
+    /// included. Falls back to the literal's own position when the text cannot be read.
+    fn span_in_string(&self, lit: &Node, offset: usize) -> Span {
+        let fallback = lit.span.clone();
+        let text = if lit.span.file == self.root.0 {
+            self.root.1.to_string()
+        } else {
+            match self.source.read(&lit.span.file) {
+                Ok(t) => t,
+                Err(_) => return fallback,
+            }
+        };
+        let target = lit.span.line.saturating_sub(1) as usize;
+        let mut line_start = 0;
+        let mut this_line = None;
+        for (i, l) in text.split_inclusive('\n').enumerate() {
+            if i == target {
+                this_line = Some(l);
+                break;
+            }
+            line_start += l.len();
+        }
+        let Some((col_off, _)) = this_line.and_then(|l| l.char_indices().nth(lit.span.col.saturating_sub(1) as usize))
+        else {
+            return fallback;
+        };
+        let mut src = text[line_start + col_off..].chars().peekable();
+        let (mut line, mut col) = (lit.span.line, lit.span.col);
+        let step = |c: char, line: &mut u32, col: &mut u32| {
+            if c == '\n' {
+                *line += 1;
+                *col = 1;
+            } else {
+                *col += 1;
+            }
+        };
+        // The opening delimiter: `"` or `r`, `#`s, `"`.
+        let raw = src.peek() == Some(&'r');
+        for c in src.by_ref() {
+            step(c, &mut line, &mut col);
+            if c == '"' {
+                break;
+            }
+        }
+        let mut produced = 0usize;
+        while produced < offset {
+            let (line0, col0) = (line, col);
+            let Some(c) = src.next() else { return fallback };
+            step(c, &mut line, &mut col);
+            if c == '\\' && !raw {
+                // An escape: `\u{..}` or one character stand for one character of the value.
+                let Some(e) = src.next() else { return fallback };
+                step(e, &mut line, &mut col);
+                let ch = if e == 'u' {
+                    let mut hex = String::new();
+                    for h in src.by_ref() {
+                        step(h, &mut line, &mut col);
+                        if h == '}' {
+                            break;
+                        }
+                        if h != '{' {
+                            hex.push(h);
+                        }
+                    }
+                    u32::from_str_radix(&hex, 16)
+                        .ok()
+                        .and_then(char::from_u32)
+                        .unwrap_or('?')
+                } else {
+                    e
+                };
+                produced += ch.len_utf8();
+            } else {
+                produced += c.len_utf8();
+            }
+            if produced > offset {
+                return Span {
+                    line: line0,
+                    col: col0,
+                    ..fallback
+                };
+            }
+        }
+        Span { line, col, ..fallback }
     }
 
     fn flat_node(&mut self, n: &NodeDecl) -> FlatNode {
@@ -321,10 +535,17 @@ impl<'a> Expander<'a> {
             kind,
             parent: n.parent.clone(),
             values: Vec::new(),
+            value_index: HashMap::new(),
             via: None,
+            custom: Vec::new(),
         };
+        if let Some((_, _, v)) = n.fields.iter().find(|f| f.0 == "attrs") {
+            self.custom_attrs(&mut node, v);
+        }
         for (f, fs, v) in &n.fields {
-            self.field(&mut node, f, fs, v);
+            if f != "attrs" {
+                self.field(&mut node, f, fs, v);
+            }
         }
         node
     }
@@ -343,6 +564,13 @@ impl<'a> Expander<'a> {
                 }
             };
             let Some(k) = flat.nodes.iter().position(|n| n.name == parts.node) else {
+                if flat.suppressed.contains(parts.node) {
+                    continue;
+                }
+                if flat.opaque.is_some() {
+                    self.hidden += 1;
+                    continue;
+                }
                 let hint = nearest(parts.node, flat.nodes.iter().map(|n| n.name.as_str()))
                     .map(|s| format!("did you mean `{s}`?"))
                     .unwrap_or_else(|| "overrides refer to nodes by name".into());
@@ -380,6 +608,16 @@ impl<'a> Expander<'a> {
                 );
                 continue;
             }
+            if let Some(i) = parts.index.filter(|&i| i > MAX_ELEMENT_INDEX) {
+                self.diags.push(
+                    Diagnostic::new(
+                        attr_span,
+                        format!("element index {i} is above the limit of {MAX_ELEMENT_INDEX} (2^20 - 1)"),
+                    )
+                    .hint("number the elements from 0; nodes size arrays by the largest index"),
+                );
+                continue;
+            }
             if a.multi != parts.index.is_some() {
                 let m = if a.multi {
                     format!(
@@ -410,7 +648,15 @@ impl<'a> Expander<'a> {
     ) -> Flat {
         let mut flat = Flat::default();
         for u in &body.uses {
+            if self.over_limit {
+                return flat;
+            }
             let sub = self.expand_use(u, scope, stack);
+            flat.absorb(&sub);
+            if u.broken {
+                flat.suppressed.extend(sub.nodes.into_iter().map(|n| n.name));
+                continue;
+            }
             if let Some(r) = records.as_deref_mut() {
                 r.push(UseRecord {
                     nodes: sub
@@ -421,6 +667,7 @@ impl<'a> Expander<'a> {
                             type_name: n.type_name.clone(),
                             parent: n.parent.as_ref().map(|p| p.0.clone()),
                             values: n.values.iter().map(|v| (v.attr, v.index, v.value.clone())).collect(),
+                            custom: n.custom.iter().map(|c| c.0.clone()).collect(),
                         })
                         .collect(),
                     connections: sub.conns.iter().map(|c| (c.src.clone(), c.dst.clone())).collect(),
@@ -430,6 +677,11 @@ impl<'a> Expander<'a> {
             flat.conns.extend(sub.conns);
         }
         for n in &body.nodes {
+            self.created += 1;
+            if self.created > self.limits.max_nodes {
+                self.too_many_nodes(stack);
+                return flat;
+            }
             let fnode = self.flat_node(n);
             flat.nodes.push(fnode);
         }
@@ -443,13 +695,48 @@ impl<'a> Expander<'a> {
         flat
     }
 
+    /// Reports that the expansion passed [`LoadLimits::max_nodes`], naming the chain of
+    /// `Use`s being expanded, and stops the expansion.
+    fn too_many_nodes(&mut self, stack: &[(String, Span)]) {
+        self.over_limit = true;
+        let chain: Vec<&str> = stack.iter().map(|(l, _)| l.as_str()).collect();
+        let at = stack.last().map(|(_, s)| s.clone()).unwrap_or_else(|| {
+            let p: Arc<Path> = Arc::from(Path::new(""));
+            Span::new(&p, 1, 1)
+        });
+        let mut d = Diagnostic::new(
+            at,
+            format!(
+                "the rig expands to more than {} nodes (the limit) while expanding {}",
+                self.limits.max_nodes,
+                chain.join(" -> ")
+            ),
+        )
+        .hint(
+            "each Use copies every node of its component, and nested Uses multiply; check that no component \
+             is used more often than meant, or raise the limit (sinew --max-nodes N, LoadLimits::max_nodes)",
+        );
+        for (l, s) in stack.iter().skip(1) {
+            d = d.note(s.clone(), format!("{l} is used here"));
+        }
+        self.diags.push(d);
+    }
+
     fn expand_use(&mut self, u: &UseDecl, scope: &Rc<FileDoc>, stack: &mut Vec<(String, Span)>) -> Flat {
+        if self.over_limit {
+            return Flat::default();
+        }
         let target_scope = match &u.file {
             Some((f, fspan)) => {
                 let dir = scope.path.parent().unwrap_or(Path::new(""));
                 match self.load_file(&dir.join(f), fspan) {
-                    Some(fd) => fd,
-                    None => return Flat::default(),
+                    Ok(fd) => fd,
+                    Err(cause) => {
+                        return Flat {
+                            opaque: Some(cause),
+                            ..Flat::default()
+                        }
+                    }
                 }
             }
             None => scope.clone(),
@@ -469,7 +756,10 @@ impl<'a> Expander<'a> {
                         )
                         .hint(hint),
                     );
-                    return Flat::default();
+                    return Flat {
+                        opaque: Some(self.diags.len() - 1),
+                        ..Flat::default()
+                    };
                 }
             },
             None => (target_scope.path.display().to_string(), target_scope.doc.body.clone()),
@@ -551,6 +841,15 @@ impl<'a> Expander<'a> {
                         }
                     }
                 }
+                // A custom vector's declared default is mirrored like an authored value
+                // (the declaration is the same on both sides).
+                for id in spec.attr_ids().filter(|&id| spec.is_custom(id)) {
+                    let a = spec.attr(id);
+                    if a.mirror != MirrorRole::None && !a.multi && !node.values.iter().any(|v| v.attr == id) {
+                        let span = node.span.clone();
+                        Self::put(node, id, None, None, a.default.clone(), span);
+                    }
+                }
                 let cx = MirrorContext {
                     plane,
                     child,
@@ -587,6 +886,7 @@ impl<'a> Expander<'a> {
             c.src = map_node_part(&c.src, &map);
             c.dst = map_node_part(&c.dst, &map);
         }
+        flat.suppressed = flat.suppressed.iter().map(|n| map(n)).collect();
         flat
     }
 }
@@ -636,13 +936,29 @@ pub fn load_rig_with(
     registry: &Arc<Registry>,
     source: &dyn RigSource,
 ) -> Result<LoadedRig, Diagnostics> {
+    load_rig_with_limits(text, virtual_path, registry, source, LoadLimits::default())
+}
+
+/// [`load_rig_with`] with chosen [`LoadLimits`].
+pub fn load_rig_with_limits(
+    text: &str,
+    virtual_path: &Path,
+    registry: &Arc<Registry>,
+    source: &dyn RigSource,
+    limits: LoadLimits,
+) -> Result<LoadedRig, Diagnostics> {
     let key = normalize(virtual_path);
     let fpath: Arc<Path> = Arc::from(key.as_path());
     let mut exp = Expander {
         registry,
         source,
+        limits,
+        created: 0,
+        over_limit: false,
+        root: (fpath.clone(), text),
         diags: Diagnostics::default(),
         files: HashMap::new(),
+        hidden: 0,
         deps: vec![key.clone()],
         file_values: Default::default(),
     };
@@ -652,22 +968,43 @@ pub fn load_rig_with(
         path: fpath.clone(),
         doc,
     });
-    exp.files.insert(key.clone(), Some(scope.clone()));
+    exp.files.insert(key.clone(), Ok(scope.clone()));
     let mut records = Vec::new();
     let mut stack = vec![(fpath.display().to_string(), Span::new(&fpath, 1, 1))];
     let body = scope.doc.body.clone();
     let flat = exp.expand_body(&body, &scope, &mut stack, Some(&mut records));
     let mut diags = std::mem::take(&mut exp.diags);
-    let graph = super::assemble::build_graph(&flat, registry, &mut diags);
+    if exp.over_limit {
+        diags.finish();
+        return Err(diags);
+    }
+    let mut hidden = exp.hidden;
+    let graph = super::assemble::build_graph(&flat, registry, &mut diags, &mut hidden);
+    if let Some(cause) = flat.opaque.filter(|_| hidden > 0) {
+        if let Some(d) = diags.errors.get_mut(cause) {
+            let note = d.span.clone();
+            *d = d.clone().note(
+                note,
+                format!(
+                    "{hidden} reference{} to nodes not found {} not reported: the nodes this Use would create may include them",
+                    if hidden == 1 { "" } else { "s" },
+                    if hidden == 1 { "is" } else { "are" }
+                ),
+            );
+        }
+    }
     let files = exp.deps.clone();
     let file_values = exp.file_values.take();
     drop(exp);
     let mut doc = Rc::try_unwrap(scope).map(|f| f.doc).unwrap_or_else(|rc| rc.doc.clone());
+    let mut graph = graph;
+    if diags.is_empty() {
+        super::checks::report(&flat, &mut graph, &mut diags);
+    }
     if !diags.is_empty() {
         diags.finish();
         return Err(diags);
     }
-    let mut graph = graph;
     // Canonical names for the connections each use made.
     for r in &mut records {
         r.connections = r
@@ -682,7 +1019,9 @@ pub fn load_rig_with(
             .collect();
     }
     doc.records = records;
+    doc.syntax = Some(root);
     doc.file_values = file_values;
+    super::canon::long_names(&mut doc, &graph, registry);
     if doc.fps.is_some() || doc.frames.is_some() {
         graph.set_time(Time::new(
             doc.frames.map(|f| f.0).unwrap_or(0.0),

@@ -4,10 +4,11 @@
 
 use std::path::PathBuf;
 
+mod bake_morphs;
 mod bvh;
 mod gltf_read;
 mod gltf_write;
-mod validator;
+pub(crate) mod validator;
 
 /// The shared third-party assets folder, or `None` (after printing why) when absent.
 pub(super) fn assets_dir() -> Option<PathBuf> {

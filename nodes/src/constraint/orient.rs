@@ -42,6 +42,16 @@ impl OrientConstraint {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut b = NodeSpec::builder("orientConstraint");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        b.maya_names(&[
+            ("targetWeight", "tw"),
+            ("constraintParentInverseMatrix", "cpim"),
+            ("constraintRotateOrder", "cro"),
+            ("constraintJointOrient", "cjo"),
+            ("offset", "o"),
+            ("restRotate", "rsrr"),
+            ("constraintRotate", "cr"),
+        ]);
         b.doc("rotate the constrained node to the weighted world orientation of its targets");
         let targets = Targets::declare(&mut b);
         let parent_inverse = declare_parent_inverse(&mut b);
@@ -139,6 +149,21 @@ impl AimConstraint {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut b = NodeSpec::builder("aimConstraint");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        b.maya_names(&[
+            ("targetWeight", "tw"),
+            ("constraintParentInverseMatrix", "cpim"),
+            ("constraintRotateOrder", "cro"),
+            ("constraintJointOrient", "cjo"),
+            ("constraintRotatePivot", "crp"),
+            ("constraintRotateTranslate", "crt"),
+            ("constraintTranslate", "ct"),
+            ("worldUpType", "wut"),
+            ("worldUpVector", "wu"),
+            ("offset", "o"),
+            ("restRotate", "rsrr"),
+            ("constraintRotate", "cr"),
+        ]);
         b.doc("rotate the constrained node so its aimVector points at the weighted target position");
         let targets = Targets::declare(&mut b);
         let parent_inverse = declare_parent_inverse(&mut b);

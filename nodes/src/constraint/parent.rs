@@ -44,6 +44,19 @@ impl ParentConstraint {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut b = NodeSpec::builder("parentConstraint");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        b.maya_names(&[
+            ("targetWeight", "tw"),
+            ("constraintParentInverseMatrix", "cpim"),
+            ("constraintRotateOrder", "cro"),
+            ("constraintJointOrient", "cjo"),
+            ("constraintRotatePivot", "crp"),
+            ("constraintRotateTranslate", "crt"),
+            ("restTranslate", "rst"),
+            ("restRotate", "rsrr"),
+            ("constraintTranslate", "ct"),
+            ("constraintRotate", "cr"),
+        ]);
         b.doc("translate + rotate the constrained node to the weighted world transform of its targets");
         let targets = Targets::declare(&mut b);
         let parent_inverse = declare_parent_inverse(&mut b);
@@ -138,6 +151,16 @@ impl PointConstraint {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut b = NodeSpec::builder("pointConstraint");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        b.maya_names(&[
+            ("targetWeight", "tw"),
+            ("constraintParentInverseMatrix", "cpim"),
+            ("constraintRotatePivot", "crp"),
+            ("constraintRotateTranslate", "crt"),
+            ("offset", "o"),
+            ("restTranslate", "rst"),
+            ("constraintTranslate", "ct"),
+        ]);
         b.doc("translate the constrained node to the weighted world position of its targets");
         let targets = Targets::declare(&mut b);
         let parent_inverse = declare_parent_inverse(&mut b);

@@ -41,6 +41,13 @@ impl ScaleConstraint {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut b = NodeSpec::builder("scaleConstraint");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        b.maya_names(&[
+            ("targetWeight", "tw"),
+            ("constraintParentInverseMatrix", "cpim"),
+            ("offset", "o"),
+            ("constraintScale", "cs"),
+        ]);
         b.doc("scale the constrained node to the weighted world scale of its targets");
         let targets = Targets::declare(&mut b);
         let parent_inverse = declare_parent_inverse(&mut b);
@@ -115,6 +122,16 @@ impl PoleVectorConstraint {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut b = NodeSpec::builder("poleVectorConstraint");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        b.maya_names(&[
+            ("targetWeight", "tw"),
+            ("constraintParentInverseMatrix", "cpim"),
+            ("pivotSpace", "ps"),
+            ("constraintRotatePivot", "crp"),
+            ("offset", "o"),
+            ("restTranslate", "rst"),
+            ("constraintTranslate", "ct"),
+        ]);
         b.doc("point an IK handle's poleVector from its start joint to the weighted target position");
         let targets = Targets::declare(&mut b);
         let parent_inverse = declare_parent_inverse(&mut b);

@@ -92,6 +92,14 @@ impl Follicle {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut s = NodeSpec::builder("follicle");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        s.maya_names(&[
+            ("inputWorldMatrix", "iwm"),
+            ("parameterU", "pu"),
+            ("parameterV", "pv"),
+            ("outTranslate", "ot"),
+            ("outRotate", "or"),
+        ]);
         s.doc("pins a frame to inputMesh at (parameterU, parameterV)");
         let input_mesh = s.input("inputMesh", Arc::new(Mesh::default()));
         let uv_mesh = s.input("uvMesh", Arc::new(Mesh::default()));
@@ -225,6 +233,8 @@ impl ClosestPointOnMesh {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut s = NodeSpec::builder("closestPointOnMesh");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        s.maya_names(&[("inputMatrix", "ix"), ("inMesh", "im"), ("inPosition", "ip")]);
         s.doc("closest point of inMesh to inPosition, with normal, UV and face index");
         let in_mesh = s.input("inMesh", Arc::new(Mesh::default()));
         let in_position = s.input("inPosition", DVec3::ZERO);

@@ -254,6 +254,13 @@ pub struct MeshNode {
 impl MeshNode {
     fn new() -> Result<Self, SpecError> {
         let mut s = NodeSpec::builder("mesh");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        s.maya_names(&[
+            ("inMesh", "i"),
+            ("worldMatrix", "wm"),
+            ("outMesh", "o"),
+            ("worldMesh", "w"),
+        ]);
         s.doc("a mesh shape: inMesh → outMesh (shared) and worldMesh (transformed by worldMatrix)");
         let in_mesh = s.input("inMesh", Arc::new(Mesh::default()));
         let world_matrix = s.input("worldMatrix", DMat4::IDENTITY);

@@ -168,6 +168,8 @@ impl IkRp {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut b = NodeSpec::builder("ikRP");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        b.maya_names(&[("poleVector", "pv"), ("twist", "twi")]);
         b.doc("rotate-plane IK: chain rest data, goal, pole vector and twist in; joint rotations out");
         let chain = ChainInputs::declare(&mut b);
         let goal = GoalInputs::declare(&mut b);

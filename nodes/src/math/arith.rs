@@ -29,6 +29,8 @@ impl MultiplyDivide {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut s = NodeSpec::builder("multiplyDivide");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        s.maya_names(&[("input1", "i1"), ("input2", "i2"), ("operation", "op"), ("output", "o")]);
         s.doc("output = input1 (noOperation | multiply | divide | power) input2, per component; x/0 = 0");
         let input1 = s.input("input1", DVec3::ZERO);
         let input2 = s.input("input2", DVec3::ONE);
@@ -100,6 +102,14 @@ impl PlusMinusAverage {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut s = NodeSpec::builder("plusMinusAverage");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        s.maya_names(&[
+            ("operation", "op"),
+            ("input1D", "i1"),
+            ("input3D", "i3"),
+            ("output1D", "o1"),
+            ("output3D", "o3"),
+        ]);
         s.doc("sum, subtract (first minus the rest) or average of input1D[] / input3D[], in index order");
         let operation = s.input_enum("operation", &["noOperation", "sum", "subtract", "average"], 1);
         let input1d = s.multi_input("input1D", 0.0);
@@ -169,6 +179,8 @@ impl Reverse {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut s = NodeSpec::builder("reverse");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        s.maya_names(&[("input", "i"), ("output", "o")]);
         s.doc("output = 1 - input, per component");
         let input = s.input("input", DVec3::ZERO);
         let output = s.output("output", DVec3::ONE);
@@ -196,6 +208,8 @@ node_type!(Reverse);
 /// (rigs exported from Maya contain many of these).
 pub fn unit_conversion() -> Result<KernelNode, SpecError> {
     let mut s = NodeSpec::builder("unitConversion");
+    // Maya's short names (see docs/rig-format.md, "Maya short names").
+    s.maya_names(&[("input", "i"), ("conversionFactor", "cf"), ("output", "o")]);
     s.doc("output = input * conversionFactor");
     let input = s.input("input", 0.0);
     let factor = s.input("conversionFactor", 1.0);
@@ -218,6 +232,8 @@ pub fn mult_double_linear() -> Result<KernelNode, SpecError> {
 /// A node type `name` with float inputs `input1`, `input2` and `output = op(input1, input2)`.
 fn scalar_pair(name: &str, doc: &str, op: ScalarOp) -> Result<KernelNode, SpecError> {
     let mut s = NodeSpec::builder(name);
+    // Maya's short names (see docs/rig-format.md, "Maya short names").
+    s.maya_names(&[("input1", "i1"), ("input2", "i2"), ("output", "o")]);
     s.doc(doc);
     let input1 = s.input("input1", 0.0);
     let input2 = s.input("input2", 0.0);

@@ -44,6 +44,29 @@ impl PairBlend {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut s = NodeSpec::builder("pairBlend");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        s.maya_names(&[
+            ("inTranslate1", "it1"),
+            ("inTranslateX1", "itx1"),
+            ("inTranslateY1", "ity1"),
+            ("inTranslateZ1", "itz1"),
+            ("inTranslate2", "it2"),
+            ("inTranslateX2", "itx2"),
+            ("inTranslateY2", "ity2"),
+            ("inTranslateZ2", "itz2"),
+            ("inRotate1", "ir1"),
+            ("inRotateX1", "irx1"),
+            ("inRotateY1", "iry1"),
+            ("inRotateZ1", "irz1"),
+            ("inRotate2", "ir2"),
+            ("inRotateX2", "irx2"),
+            ("inRotateY2", "iry2"),
+            ("inRotateZ2", "irz2"),
+            ("weight", "w"),
+            ("rotInterpolation", "ri"),
+            ("outTranslate", "ot"),
+            ("outRotate", "or"),
+        ]);
         s.doc("blends translate/rotate pair 1 (weight 0) and pair 2 (weight 1); euler or quaternion rotations");
         let in_translate1 = s.input("inTranslate1", DVec3::ZERO);
         let in_translate2 = s.input("inTranslate2", DVec3::ZERO);

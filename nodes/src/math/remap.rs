@@ -113,6 +113,14 @@ impl RemapValue {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut s = NodeSpec::builder("remapValue");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        s.maya_names(&[
+            ("inputValue", "i"),
+            ("inputMin", "imn"),
+            ("inputMax", "imx"),
+            ("outputMax", "omx"),
+            ("outValue", "ov"),
+        ]);
         s.doc("outValue = outputMin + ramp((inputValue - inputMin)/(inputMax - inputMin)) * (outputMax - outputMin)");
         let input_value = s.input("inputValue", 0.0);
         let input_min = s.input("inputMin", 0.0);

@@ -27,6 +27,15 @@ impl Condition {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut s = NodeSpec::builder("condition");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        s.maya_names(&[
+            ("firstTerm", "ft"),
+            ("secondTerm", "st"),
+            ("operation", "op"),
+            ("colorIfTrue", "ct"),
+            ("colorIfFalse", "cf"),
+            ("outColor", "oc"),
+        ]);
         s.doc("outColor = colorIfTrue if firstTerm (op) secondTerm else colorIfFalse; exact comparison");
         let first = s.input("firstTerm", 0.0);
         let second = s.input("secondTerm", 0.0);
@@ -116,6 +125,8 @@ impl BlendColors {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut s = NodeSpec::builder("blendColors");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        s.maya_names(&[("color1", "c1"), ("color2", "c2"), ("blender", "b"), ("output", "op")]);
         s.doc("output = color1 * blender + color2 * (1 - blender)");
         let color1 = s.input("color1", DVec3::new(1.0, 0.0, 0.0));
         let color2 = s.input("color2", DVec3::new(0.0, 0.0, 1.0));
@@ -177,6 +188,8 @@ impl Clamp {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut s = NodeSpec::builder("clamp");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        s.maya_names(&[("min", "mn"), ("max", "mx"), ("input", "ip"), ("output", "op")]);
         s.doc("output = input clamped to [min, max], per component (min tested first)");
         let min = s.input("min", DVec3::ZERO);
         let max = s.input("max", DVec3::ZERO);
@@ -236,6 +249,15 @@ impl SetRange {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut s = NodeSpec::builder("setRange");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        s.maya_names(&[
+            ("value", "v"),
+            ("min", "n"),
+            ("max", "m"),
+            ("oldMin", "on"),
+            ("oldMax", "om"),
+            ("outValue", "o"),
+        ]);
         s.doc("outValue = value mapped from [oldMin, oldMax] to [min, max], clamped; oldMin == oldMax gives min");
         let value = s.input("value", DVec3::ZERO);
         let min = s.input("min", DVec3::ZERO);

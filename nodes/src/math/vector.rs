@@ -23,6 +23,8 @@ impl DistanceBetween {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut s = NodeSpec::builder("distanceBetween");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        s.maya_names(&[("point2", "p2"), ("distance", "d")]);
         s.doc("distance = |inMatrix2 * point2 - inMatrix1 * point1|");
         let point1 = s.input("point1", DVec3::ZERO);
         let point2 = s.input("point2", DVec3::ZERO);
@@ -45,14 +47,7 @@ impl DistanceBetween {
         let p1 = ctx.get(self.in_matrix1).transform_point3(ctx.get(self.point1));
         let p2 = ctx.get(self.in_matrix2).transform_point3(ctx.get(self.point2));
         let d = finite3(p2) - finite3(p1);
-        // Scale before squaring so huge but finite coordinates do not overflow.
-        let m = d.abs().max_element();
-        let len = if m > 0.0 && m.is_finite() {
-            m * (d / m).length()
-        } else {
-            0.0
-        };
-        ctx.set(self.distance, finite(len));
+        ctx.set(self.distance, length(d));
         Ok(())
     }
 }
@@ -81,6 +76,8 @@ impl VectorProduct {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut s = NodeSpec::builder("vectorProduct");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        s.maya_names(&[("operation", "op"), ("input1", "i1"), ("input2", "i2"), ("output", "o")]);
         s.doc("dot, cross, vector-matrix or point-matrix product of input1 (and input2)");
         let operation = s.input_enum(
             "operation",
@@ -135,8 +132,19 @@ impl VectorProduct {
 }
 node_type!(VectorProduct);
 
+/// `|v|`, scaled before squaring so huge but finite components do not
+/// overflow; saturates at `f64::MAX`, and a non-finite vector gives 0.
+pub fn length(v: DVec3) -> f64 {
+    let m = v.abs().max_element();
+    if m > 0.0 && m.is_finite() {
+        finite(m * (v / m).length())
+    } else {
+        0.0
+    }
+}
+
 /// `v` normalized; zero (or non-finite) vectors give zero.
-fn unit(v: DVec3) -> DVec3 {
+pub fn unit(v: DVec3) -> DVec3 {
     let m = v.abs().max_element();
     if m > 0.0 && m.is_finite() {
         (v / m).normalize_or_zero()

@@ -272,6 +272,26 @@ impl Transform {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut s = NodeSpec::builder("transform");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        s.maya_names(&[
+            ("translate", "t"),
+            ("rotate", "r"),
+            ("rotateOrder", "ro"),
+            ("scale", "s"),
+            ("rotateAxis", "ra"),
+            ("visibility", "v"),
+            ("parentMatrix", "pm"),
+            ("offsetParentMatrix", "opm"),
+            ("matrix", "m"),
+            ("inverseMatrix", "im"),
+            ("worldMatrix", "wm"),
+            ("worldInverseMatrix", "wim"),
+            ("parentInverseMatrix", "pim"),
+            ("rotatePivot", "rp"),
+            ("rotatePivotTranslate", "rpt"),
+            ("scalePivot", "sp"),
+            ("scalePivotTranslate", "spt"),
+        ]);
         s.doc("a DAG transform: local matrix from translate/rotate/scale/shear/pivots; world = parent * local");
         let channels = Common::declare_channels(&mut s);
         let shear = s.input("shear", DVec3::ZERO);
@@ -369,6 +389,27 @@ impl Joint {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut s = NodeSpec::builder("joint");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        s.maya_names(&[
+            ("translate", "t"),
+            ("rotate", "r"),
+            ("rotateOrder", "ro"),
+            ("scale", "s"),
+            ("rotateAxis", "ra"),
+            ("visibility", "v"),
+            ("parentMatrix", "pm"),
+            ("offsetParentMatrix", "opm"),
+            ("matrix", "m"),
+            ("inverseMatrix", "im"),
+            ("worldMatrix", "wm"),
+            ("worldInverseMatrix", "wim"),
+            ("parentInverseMatrix", "pim"),
+            ("jointOrient", "jo"),
+            ("segmentScaleCompensate", "ssc"),
+            ("inverseScale", "is"),
+            ("preferredAngle", "pa"),
+            ("radius", "radi"),
+        ]);
         s.doc("a skeleton joint: local matrix S·RA·R·JO·IS·T with segment scale compensation; world = parent * local");
         let channels = Common::declare_channels(&mut s);
         let joint_orient = s.input("jointOrient", DVec3::ZERO);

@@ -68,6 +68,14 @@ impl DecomposeMatrix {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut s = NodeSpec::builder("decomposeMatrix");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        s.maya_names(&[
+            ("inputMatrix", "imat"),
+            ("outputTranslate", "ot"),
+            ("outputRotate", "or"),
+            ("outputScale", "os"),
+            ("outputShear", "osh"),
+        ]);
         s.doc("splits a matrix into translate, rotate (deg), scale, shear and quaternion");
         let input_matrix = s.input("inputMatrix", DMat4::IDENTITY);
         let input_rotate_order = rotate_order_input(&mut s);
@@ -128,6 +136,13 @@ impl ComposeMatrix {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut s = NodeSpec::builder("composeMatrix");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        s.maya_names(&[
+            ("inputTranslate", "it"),
+            ("inputRotate", "ir"),
+            ("inputScale", "is"),
+            ("outputMatrix", "omat"),
+        ]);
         s.doc("builds a matrix from translate, rotate (deg) or quaternion, scale and shear");
         let translate = s.input("inputTranslate", DVec3::ZERO);
         let rotate = s.input("inputRotate", DVec3::ZERO);
@@ -187,6 +202,8 @@ impl MultMatrix {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut s = NodeSpec::builder("multMatrix");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        s.maya_names(&[("matrixIn", "i"), ("matrixSum", "o")]);
         s.doc("product of matrixIn[0..n] in index order (matrixIn[0] applied first)");
         let matrix_in = s.multi_input("matrixIn", DMat4::IDENTITY);
         let out = s.output("matrixSum", DMat4::IDENTITY);

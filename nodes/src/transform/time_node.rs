@@ -16,6 +16,8 @@ impl TimeNode {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut s = NodeSpec::builder("time");
+        // Maya's short names (see docs/rig-format.md, "Maya short names").
+        s.maya_names(&[("outTime", "o")]);
         s.doc("the current time: outTime in frames, outSeconds in seconds");
         s.time_dependent();
         let out_time = s.output("outTime", 0.0);
