@@ -77,28 +77,44 @@ pub fn detect_mirror(solid: &Solid, tolerance: f64) -> (Option<Mirror>, f64) {
             .map(|k| axes.col(k))
             .filter(|a| a.is_finite() && a.length() > 0.5),
     );
-    let scored: Vec<(usize, f64)> = candidates
-        .iter()
-        .enumerate()
-        .map(|(k, &nrm)| (k, mismatch(grid, &solid.inside, &cells, &Mirror::new(centroid, nrm))))
-        .collect();
+    // Every third cell is plenty for a fraction; a plane is dropped as soon as it
+    // misses more than the best so far (or the tolerance, before one passes).
+    let sample: Vec<usize> = cells.iter().copied().step_by(3).collect();
+    let mut scored: Vec<(usize, f64)> = Vec::new();
+    let mut bound = 1.0f64;
+    for (k, &nrm) in candidates.iter().enumerate() {
+        let score = mismatch(grid, &solid.inside, &sample, &Mirror::new(centroid, nrm), bound);
+        scored.push((k, score));
+        bound = bound.min(score.max(tolerance) + 0.25 * tolerance);
+        // A world axis that fits within a quarter of the tolerance is the plane.
+        if k < 3 && score <= 0.25 * tolerance {
+            break;
+        }
+    }
     let best = scored.iter().map(|s| s.1).fold(f64::INFINITY, f64::min);
     let pick = scored
         .iter()
         .find(|s| s.1 <= best + 0.25 * tolerance)
         .map_or(0, |s| s.0);
     let plane = Mirror::new(centroid, candidates[pick]);
-    let score = scored[pick].1;
+    let score = scored.iter().find(|s| s.0 == pick).map_or(1.0, |s| s.1);
     ((score <= tolerance).then_some(plane), score)
 }
 
-/// Fraction of `cells` whose mirror image is farther than one cell from the solid.
-fn mismatch(grid: &Grid, inside: &[bool], cells: &[usize], m: &Mirror) -> f64 {
-    let misses = cells
-        .iter()
-        .filter(|&&c| !near_inside(grid, inside, m.reflect(grid.center(c))))
-        .count();
-    misses as f64 / cells.len() as f64
+/// Fraction of `cells` whose mirror image is farther than one cell from the solid;
+/// stops counting (returning more than `bound`) once it exceeds `bound`.
+fn mismatch(grid: &Grid, inside: &[bool], cells: &[usize], m: &Mirror, bound: f64) -> f64 {
+    let limit = (bound * cells.len() as f64).ceil() as usize;
+    let mut misses = 0;
+    for &c in cells {
+        if !near_inside(grid, inside, m.reflect(grid.center(c))) {
+            misses += 1;
+            if misses > limit {
+                return (misses as f64 / cells.len() as f64).max(bound + f64::EPSILON);
+            }
+        }
+    }
+    misses as f64 / cells.len().max(1) as f64
 }
 
 /// Whether an inside cell lies within the 3×3×3 block around the cell of `p`.

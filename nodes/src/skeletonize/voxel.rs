@@ -335,45 +335,72 @@ pub fn tri_box_overlap(v: [DVec3; 3], e: f64) -> bool {
 /// shell thickened by `closing` cells (then reclaiming `closing` cells back through
 /// the plain shell). The grid's padding must exceed `closing` by at least 2.
 pub fn fill(grid: &Grid, shell: &[bool], closing: usize) -> Vec<bool> {
+    const FREE: u8 = 0;
+    const WALL: u8 = 1;
+    const OUT: u8 = 2;
     let wall: Vec<bool> = if closing == 0 {
         shell.to_vec()
     } else {
         dilate(grid, shell, closing)
     };
+    let mut state: Vec<u8> = wall.iter().map(|&w| if w { WALL } else { FREE }).collect();
     // The border is outside; the flood runs over cells off the border, so every cell it
     // pops has its six neighbours in the grid.
-    let mut outside = vec![false; grid.len()];
+    let [nx, ny, nz] = grid.dims;
     let mut stack: Vec<usize> = Vec::new();
-    for c in 0..grid.len() {
-        match layer(grid, c) {
-            0 => outside[c] = true,
-            1 if !wall[c] => {
-                outside[c] = true;
-                stack.push(c);
+    for k in 0..nz {
+        for j in 0..ny {
+            for i in 0..nx {
+                let layer = i.min(nx - 1 - i).min(j).min(ny - 1 - j).min(k).min(nz - 1 - k);
+                if layer > 1 {
+                    continue;
+                }
+                let c = grid.index(i, j, k);
+                if layer == 0 {
+                    state[c] = OUT;
+                } else if state[c] == FREE {
+                    state[c] = OUT;
+                    stack.push(c);
+                }
             }
-            _ => {}
         }
     }
     let steps = six(grid);
     while let Some(c) = stack.pop() {
         for s in steps {
             let m = (c as isize + s) as usize;
-            if !outside[m] && !wall[m] {
-                outside[m] = true;
+            if state[m] == FREE {
+                state[m] = OUT;
                 stack.push(m);
             }
         }
     }
     if closing > 0 {
-        // Reclaim: `closing` rounds of growth of the outside through non-shell cells.
-        let mut front: Vec<usize> = (0..grid.len()).filter(|&c| outside[c] && layer(grid, c) > 0).collect();
+        // Reclaim: `closing` rounds of growth of the outside through non-shell cells,
+        // from the outside cells next to the thickened wall.
+        for (c, s) in state.iter_mut().enumerate() {
+            if *s == WALL && !shell[c] {
+                *s = FREE;
+            }
+        }
+        let mut front: Vec<usize> = Vec::new();
+        for k in 1..nz - 1 {
+            for j in 1..ny - 1 {
+                for i in 1..nx - 1 {
+                    let c = grid.index(i, j, k);
+                    if state[c] == OUT && steps.iter().any(|&s| state[(c as isize + s) as usize] == FREE) {
+                        front.push(c);
+                    }
+                }
+            }
+        }
         for _ in 0..closing {
             let mut next = Vec::new();
             for &c in &front {
                 for s in steps {
                     let m = (c as isize + s) as usize;
-                    if !outside[m] && !shell[m] {
-                        outside[m] = true;
+                    if state[m] == FREE {
+                        state[m] = OUT;
                         next.push(m);
                     }
                 }
@@ -381,7 +408,7 @@ pub fn fill(grid: &Grid, shell: &[bool], closing: usize) -> Vec<bool> {
             front = next;
         }
     }
-    outside.iter().map(|&o| !o).collect()
+    state.iter().map(|&s| s != OUT).collect()
 }
 
 /// Linear offsets of the six face neighbours.
@@ -391,32 +418,32 @@ fn six(grid: &Grid) -> [isize; 6] {
     [-1, 1, -sy, sy, -sz, sz]
 }
 
-/// How many cells `c` is from the grid's faces (0 on a face), capped at 2.
-fn layer(grid: &Grid, c: usize) -> usize {
-    let x = grid.coords(c);
-    (0..3)
-        .map(|a| x[a].min(grid.dims[a] - 1 - x[a]))
-        .min()
-        .unwrap_or(0)
-        .min(2)
-}
-
-/// Cells within Chebyshev distance `r` of a marked cell (three separable passes).
+/// Cells within Chebyshev distance `r` of a marked cell (three separable passes, each
+/// a running count over a window of `2r + 1` cells).
 fn dilate(grid: &Grid, marked: &[bool], r: usize) -> Vec<bool> {
     let mut cur = marked.to_vec();
+    let strides = [1, grid.dims[0], grid.dims[0] * grid.dims[1]];
     for axis in 0..3 {
-        let mut next = vec![false; cur.len()];
         let n = grid.dims[axis];
-        for (c, _) in cur.iter().enumerate().filter(|(_, on)| **on) {
-            let x = grid.coords(c)[axis];
-            let stride = match axis {
-                0 => 1,
-                1 => grid.dims[0],
-                _ => grid.dims[0] * grid.dims[1],
-            };
-            let base = c - x * stride;
-            for y in x.saturating_sub(r)..=(x + r).min(n - 1) {
-                next[base + y * stride] = true;
+        let stride = strides[axis];
+        let (a, b) = ((axis + 1) % 3, (axis + 2) % 3);
+        let mut next = vec![false; cur.len()];
+        for ib in 0..grid.dims[b] {
+            for ia in 0..grid.dims[a] {
+                let base = ia * strides[a] + ib * strides[b];
+                // Count of marked cells in [x - r, x + r].
+                let mut count = (0..=r.min(n - 1)).filter(|&y| cur[base + y * stride]).count();
+                for x in 0..n {
+                    if count > 0 {
+                        next[base + x * stride] = true;
+                    }
+                    if x + r + 1 < n && cur[base + (x + r + 1) * stride] {
+                        count += 1;
+                    }
+                    if x >= r && cur[base + (x - r) * stride] {
+                        count -= 1;
+                    }
+                }
             }
         }
         cur = next;
