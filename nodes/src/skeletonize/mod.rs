@@ -51,6 +51,8 @@ mod tests;
 mod tests_bodies;
 #[cfg(test)]
 mod tests_node;
+#[cfg(test)]
+mod tests_parts;
 pub mod tree;
 pub mod volume;
 pub mod voxel;

@@ -226,3 +226,78 @@ fn ring_becomes_a_symmetric_tree() {
         );
     }
 }
+
+/// Linear blend skinning by hand: rotate the joint at the bent humanoid's left elbow
+/// by 90° (it and its descendants turn about the elbow), every other joint still. A
+/// vertex moves by `(Σ weights of the turned joints) × |R(v − e) − (v − e)|`, so:
+/// the forearm (beyond the elbow by more than its radius) follows nearly rigidly,
+/// the upper arm short of the elbow stays, and no vertex of another part moves.
+#[test]
+fn rotating_one_elbow_moves_only_that_forearm() {
+    let body = bodies::humanoid(true, 16);
+    let d = check_body("bent humanoid", &body);
+    let sk = &d.skeleton;
+    let i = body.limbs.iter().position(|l| l.name == "arm_L").unwrap();
+    let limb = &body.limbs[i];
+    let elbow_at = limb.articulations[0];
+    let chain = limb_chain(sk, leaf_of(&body, sk, i));
+    let elbow = *chain
+        .iter()
+        .min_by(|&&a, &&b| {
+            sk.positions[a]
+                .distance(elbow_at)
+                .total_cmp(&sk.positions[b].distance(elbow_at))
+        })
+        .unwrap();
+    let turned: Vec<bool> = (0..sk.len())
+        .map(|j| {
+            let mut k = j;
+            loop {
+                if k == elbow {
+                    return true;
+                }
+                match sk.parents[k] {
+                    Some(p) => k = p,
+                    None => return false,
+                }
+            }
+        })
+        .collect();
+    let e = sk.positions[elbow];
+    let rot = glam::DQuat::from_axis_angle(DVec3::Y, 90f64.to_radians());
+    let w = bone_heat_weights(&body.mesh, sk, &WeightParams::default()).unwrap();
+    let (upper, fore) = (limb.capsules[0], limb.capsules[1]);
+    let size = body.size();
+    let (mut fore_n, mut fore_follow) = (0, 0.0);
+    for (v, p) in body.mesh.positions.iter().enumerate() {
+        let p = p.as_dvec3();
+        let (js, xs) = w.influences(v);
+        let t: f64 = js
+            .iter()
+            .zip(xs)
+            .filter(|(j, _)| turned[**j as usize])
+            .map(|(_, x)| *x as f64)
+            .sum();
+        let moved = t * (rot * (p - e) - (p - e)).length();
+        if body.vertex_owner[v] != Owner::Limb(i) {
+            assert!(
+                moved <= 1e-3 * size,
+                "vertex {v} of {:?} moves {moved}",
+                body.vertex_owner[v]
+            );
+            continue;
+        }
+        let beyond = (p - e).dot((fore.b - fore.a).normalize());
+        if fore.axis_distance(p) <= fore.radius + 1e-6 && beyond > 2.0 * fore.radius {
+            fore_n += 1;
+            fore_follow += t;
+        } else if upper.axis_distance(p) <= upper.radius + 1e-6
+            && (e - p).dot((upper.b - upper.a).normalize()) > 2.0 * upper.radius
+        {
+            assert!(t <= 0.1, "upper arm vertex {v} at {p} turns with weight {t}");
+        }
+    }
+    assert!(fore_n > 20);
+    let mean = fore_follow / fore_n as f64;
+    assert!(mean >= 0.9, "the forearm follows its elbow by {mean}");
+}
