@@ -19,9 +19,13 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use sinew_core::{Registry, Value};
+use sinew_nodes::skeletonize::volume::PartFate;
 use sinew_nodes::skeletonize::{
-    bone_heat_weights_with_report, node::local_placement, skeletonize, Skeleton, SkeletonizeParams, WeightParams,
+    bone_heat_weights_with_report, node::local_placement, skeletonize_detailed, Method, Skeleton, SkeletonDetails,
+    SkeletonizeParams, Template, WeightParams,
 };
+
+use super::skeleton_preview as preview;
 
 use crate::io::mesh_file::load_mesh;
 use crate::io::rig_builder::RigBuilder;
@@ -29,25 +33,111 @@ use crate::io::rig_builder::RigBuilder;
 /// Options of `sinew skeletonize`.
 #[derive(Clone, Debug)]
 pub struct SkeletonizeOptions {
-    /// Silhouette raster resolution (pixels along the longer side).
+    /// Extraction method: `auto` (default), `volume` or `silhouette`.
+    pub method: Method,
+    /// Volume cells (or, for the silhouette method, raster pixels) along the mesh's
+    /// longest side (None: the library defaults, 96 cells and 256 pixels).
     pub resolution: Option<usize>,
-    /// Bones per branch (None or 0: joints where branches turn).
+    /// Bones per limb, from its base to its tip (None: the default, 3).
+    pub joints_per_limb: Option<usize>,
+    /// Bones per branch spaced evenly, no articulation search (None or 0: off).
     pub bones_per_branch: Option<usize>,
+    /// A named skeleton to fit (`humanoid`, `quadruped`).
+    pub template: Option<Template>,
+    /// Detect a mirror plane and make the skeleton symmetric.
+    pub symmetry: bool,
+    /// Join separate parts of the mesh to the nearest part (off: one root per part).
+    pub join_parts: bool,
     /// Joints per vertex in the weights (0 = unlimited).
     pub max_influences: usize,
     /// Compute bone-heat weights and write a skinCluster.
     pub weights: bool,
+    /// Write a PNG preview (front and side views, dominant joint per vertex) here.
+    pub preview: Option<std::path::PathBuf>,
 }
 
 impl Default for SkeletonizeOptions {
     fn default() -> Self {
         SkeletonizeOptions {
+            method: Method::Auto,
             resolution: None,
+            joints_per_limb: None,
             bones_per_branch: None,
+            template: None,
+            symmetry: true,
+            join_parts: true,
             max_influences: WeightParams::default().max_influences,
             weights: true,
+            preview: None,
         }
     }
+}
+
+/// Parses `--method`: `auto`, `volume` or `silhouette`.
+pub fn parse_method(s: &str) -> Result<Method, String> {
+    match s.to_ascii_lowercase().as_str() {
+        "auto" => Ok(Method::Auto),
+        "volume" => Ok(Method::Volume),
+        "silhouette" => Ok(Method::Silhouette),
+        _ => Err(format!("unknown method `{s}`; use auto, volume or silhouette")),
+    }
+}
+
+/// Parses `--template`: `humanoid` (or `biped`) or `quadruped`.
+pub fn parse_template(s: &str) -> Result<Template, String> {
+    Template::parse(s).ok_or_else(|| format!("unknown template `{s}`; use humanoid or quadruped"))
+}
+
+/// The library parameters for `opts`.
+fn params(opts: &SkeletonizeOptions) -> SkeletonizeParams {
+    let d = SkeletonizeParams::default();
+    let silhouette = opts.method == Method::Silhouette;
+    SkeletonizeParams {
+        method: opts.method,
+        resolution: opts.resolution.filter(|_| !silhouette).unwrap_or(d.resolution),
+        silhouette_resolution: opts
+            .resolution
+            .filter(|_| silhouette)
+            .unwrap_or(d.silhouette_resolution),
+        joints_per_limb: opts.joints_per_limb.unwrap_or(d.joints_per_limb).max(1),
+        bones_per_branch: opts.bones_per_branch.filter(|&b| b > 0),
+        template: opts.template,
+        symmetry: opts.symmetry,
+        join_parts: opts.join_parts,
+        ..d
+    }
+}
+
+/// One line per notable fact of the extraction: method, mirror plane, parts.
+fn describe(d: &SkeletonDetails) -> String {
+    let method = match d.method {
+        Method::Silhouette => "silhouette (the mesh is flat, or asked for)",
+        _ => "volume",
+    };
+    let mut s = format!("method: {method}");
+    match &d.mirror {
+        Some(m) => s.push_str(&format!(
+            "; mirror plane through {:.3} with normal {:.3}: {} limb pairs named _L/_R",
+            m.origin, m.normal, d.symmetry.pairs
+        )),
+        None => s.push_str("; no mirror plane (the mesh is not symmetric within the tolerance)"),
+    }
+    if let Some(v) = &d.volume {
+        if v.parts.len() > 1 {
+            let count = |f: fn(&PartFate) -> bool| v.parts.iter().filter(|p| f(&p.fate)).count();
+            s.push_str(&format!(
+                "\nparts: {} separate parts: {} joined to the nearest part by a bridge bone, {} kept as separate roots, {} too small for joints of their own (weighted to the nearest bones)",
+                v.parts.len(),
+                count(|f| matches!(f, PartFate::Joined { .. })),
+                count(|f| matches!(f, PartFate::Separate)),
+                count(|f| matches!(f, PartFate::TooSmall)),
+            ));
+        }
+        if v.shell_only {
+            s.push_str("\nnote: the mesh has holes too wide to seal; its shell alone was used");
+        }
+    }
+    s
 }
 
 /// Number of branches: maximal joint paths between key joints (roots, ends, junctions),
@@ -72,16 +162,19 @@ pub fn skeletonize_cmd(
     registry: &Arc<Registry>,
 ) -> Result<String, String> {
     crate::cli::paths::check_rig_output(&[mesh_path], out)?;
+    if let Some(p) = &opts.preview {
+        if !p.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) {
+            return Err(format!("{}: the preview is a PNG image; name it `*.png`", p.display()));
+        }
+        crate::cli::paths::check_outputs(&[mesh_path], &[out, p.as_path()])?;
+    }
     let start = Instant::now();
     let mesh = load_mesh(mesh_path)?;
     let loaded = start.elapsed();
-    let params = SkeletonizeParams {
-        resolution: opts.resolution.unwrap_or(SkeletonizeParams::default().resolution),
-        bones_per_branch: opts.bones_per_branch.filter(|&b| b > 0),
-        ..SkeletonizeParams::default()
-    };
+    let params = params(opts);
     let t0 = Instant::now();
-    let sk = skeletonize(&mesh, &params).map_err(|e| format!("{}: {e}", mesh_path.display()))?;
+    let details = skeletonize_detailed(&mesh, &params).map_err(|e| format!("{}: {e}", mesh_path.display()))?;
+    let sk = &details.skeleton;
     let t_skeleton = t0.elapsed();
     let t1 = Instant::now();
     let weights = if opts.weights {
@@ -93,7 +186,7 @@ pub fn skeletonize_cmd(
             },
             ..WeightParams::default()
         };
-        Some(bone_heat_weights_with_report(&mesh, &sk, &wp).map_err(|e| format!("{}: {e}", mesh_path.display()))?)
+        Some(bone_heat_weights_with_report(&mesh, sk, &wp).map_err(|e| format!("{}: {e}", mesh_path.display()))?)
     } else {
         None
     };
@@ -101,7 +194,7 @@ pub fn skeletonize_cmd(
 
     let stem = out.file_stem().and_then(|s| s.to_str()).unwrap_or("rig").to_string();
     let mut rig = RigBuilder::new(&stem, 24.0);
-    let (translates, orients) = local_placement(&sk);
+    let (translates, orients) = local_placement(sk);
     let mut names: Vec<String> = Vec::with_capacity(sk.len());
     for j in 0..sk.len() {
         let name = rig.name(&sk.names[j], &format!("joint{j}"));
@@ -162,9 +255,11 @@ pub fn skeletonize_cmd(
         mesh.positions.len(),
         mesh.triangles.len(),
         sk.len(),
-        branch_count(&sk),
+        branch_count(sk),
         roots.join(", "),
     );
+    msg.push('\n');
+    msg.push_str(&describe(&details));
     msg.push_str(&format!(
         "\ntime: load {:.1} ms, skeleton {:.1} ms, weights {}",
         ms(loaded),
@@ -181,6 +276,14 @@ pub fn skeletonize_cmd(
         ));
     }
     msg.push_str(&format!("\nwrote {} (data: {})", out.display(), data.display()));
+    if let Some(path) = &opts.preview {
+        let img = preview::render(&mesh, sk, weights.as_ref().map(|(w, _)| w), 480);
+        preview::write_png(&img, path)?;
+        msg.push_str(&format!(
+            "\nwrote {} (front and side views, dominant joint per vertex)",
+            path.display()
+        ));
+    }
     Ok(msg)
 }
 
@@ -371,12 +474,12 @@ mod tests {
     #[test]
     fn arguments_parse() {
         use clap::Parser;
-        let cli = crate::cli::Cli::try_parse_from([
-            "sinew",
-            "skeletonize",
-            "a.obj",
-            "-o",
-            "r.ron",
+        let parse = |extra: &[&str]| {
+            let mut args = vec!["sinew", "skeletonize", "a.obj", "-o", "r.ron"];
+            args.extend_from_slice(extra);
+            crate::cli::Cli::try_parse_from(args)
+        };
+        let cli = parse(&[
             "--resolution",
             "64",
             "--bones-per-branch",
@@ -386,5 +489,187 @@ mod tests {
             "--no-weights",
         ]);
         assert!(cli.is_ok(), "{cli:?}");
+        let cli = parse(&[
+            "--method",
+            "volume",
+            "--joints-per-limb",
+            "4",
+            "--template",
+            "quadruped",
+            "--no-symmetry",
+            "--separate-parts",
+            "--preview",
+            "p.png",
+        ]);
+        assert!(cli.is_ok(), "{cli:?}");
+        let e = parse(&["--method", "voxels"]).unwrap_err().to_string();
+        assert!(e.contains("auto, volume or silhouette"), "{e}");
+        let e = parse(&["--template", "spider"]).unwrap_err().to_string();
+        assert!(e.contains("humanoid or quadruped"), "{e}");
+    }
+
+    /// The bent procedural humanoid through the command with the humanoid template and
+    /// a preview: biped joint names in the rig, a mirror plane reported, and a PNG whose
+    /// mesh pixels carry joint colours.
+    #[test]
+    fn template_and_preview() {
+        use sinew_nodes::skeletonize::bodies;
+        let registry = crate::default_registry().unwrap();
+        let d = tmp("template");
+        let body = bodies::humanoid(true, 12);
+        let obj = d.join("body.obj");
+        std::fs::write(&obj, obj_text(&body.mesh)).unwrap();
+        let out = d.join("body.ron");
+        let png_path = d.join("body.png");
+        let opts = SkeletonizeOptions {
+            template: Some(Template::Humanoid),
+            preview: Some(png_path.clone()),
+            ..Default::default()
+        };
+        let summary = skeletonize_cmd(&obj, &out, &opts, &registry).unwrap();
+        assert!(
+            summary.contains("method: volume") && summary.contains("mirror plane"),
+            "{summary}"
+        );
+        assert!(summary.contains("body.png"), "{summary}");
+        let text = std::fs::read_to_string(&out).unwrap();
+        for n in ["pelvis", "elbow_L", "elbow_R", "knee_L", "ankle_R", "head"] {
+            assert!(text.contains(&format!("\"{n}\": joint")), "no {n} in the rig");
+        }
+        crate::cli::rig_cmds::check(&out, &registry).unwrap();
+        let dec = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&png_path).unwrap()));
+        let mut r = dec.read_info().unwrap();
+        let mut buf = vec![0; r.output_buffer_size()];
+        let info = r.next_frame(&mut buf).unwrap();
+        assert_eq!((info.width, info.height), (960, 480));
+        let px = |x: usize, y: usize| {
+            let i = 3 * (y * 960 + x);
+            [buf[i], buf[i + 1], buf[i + 2]]
+        };
+        assert_eq!(px(3, 3), preview::BACKGROUND);
+        // Front view, 15 pixels right of the spine's line, at chest height (about 237
+        // pixels a unit, the torso 35 pixels wide each side): the torso, coloured.
+        let torso = px(255, 200);
+        assert_ne!(torso, preview::BACKGROUND);
+        assert!(torso.iter().max() != torso.iter().min(), "grey torso {torso:?}");
+        // A preview must be a PNG and must not overwrite the input.
+        let bad = SkeletonizeOptions {
+            preview: Some(d.join("p.jpg")),
+            ..opts.clone()
+        };
+        assert!(skeletonize_cmd(&obj, &out, &bad, &registry)
+            .unwrap_err()
+            .contains("PNG"));
+        let _ = std::fs::remove_dir_all(&d);
+    }
+
+    /// Generalized winding number of a closed-ish mesh around `p` (solid angles,
+    /// Van Oosterom & Strackee 1983): about 1 inside, 0 outside.
+    fn winding_number(m: &sinew_core::Mesh, p: DVec3) -> f64 {
+        let mut total = 0.0;
+        for t in &m.triangles {
+            let [a, b, c] = t.map(|i| m.positions[i as usize].as_dvec3() - p);
+            let (la, lb, lc) = (a.length(), b.length(), c.length());
+            let num = a.dot(b.cross(c));
+            let den = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
+            total += 2.0 * num.atan2(den);
+        }
+        total / (4.0 * std::f64::consts::PI)
+    }
+
+    /// The real Fox (Khronos sample model): four separate leg chains, a head and a tail
+    /// chain at the two ends of the body, every joint with children inside the mesh.
+    #[test]
+    fn fox_has_four_legs_a_head_and_a_tail() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/assets/gltf/Fox.glb");
+        if !path.exists() {
+            println!("skipping: {} is absent", path.display());
+            return;
+        }
+        let mesh = load_mesh(&path).unwrap();
+        let d = skeletonize_detailed(&mesh, &SkeletonizeParams::default()).unwrap();
+        let sk = &d.skeleton;
+        let children = |j: usize| sk.children(j).count();
+        for j in (0..sk.len()).filter(|&j| children(j) > 0) {
+            let w = winding_number(&mesh, sk.positions[j]);
+            assert!(
+                w > 0.5,
+                "{} at {} is outside (winding number {w:.2})",
+                sk.names[j],
+                sk.positions[j]
+            );
+        }
+        // The chain of a leaf up to the first junction or root.
+        let chain = |leaf: usize| {
+            let mut out = vec![leaf];
+            let mut j = leaf;
+            while let Some(p) = sk.parents[j] {
+                if children(p) > 1 || sk.parents[p].is_none() {
+                    break;
+                }
+                out.push(p);
+                j = p;
+            }
+            out
+        };
+        let (lo, hi) = mesh
+            .positions
+            .iter()
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(l, h), p| {
+                (l.min(p.as_dvec3()), h.max(p.as_dvec3()))
+            });
+        let height = hi.y - lo.y;
+        // The body's long horizontal axis.
+        let long = if hi.x - lo.x > hi.z - lo.z { DVec3::X } else { DVec3::Z };
+        let mut leaves: Vec<usize> = (0..sk.len()).filter(|&j| children(j) == 0).collect();
+        leaves.sort_by(|&a, &b| sk.positions[a].y.total_cmp(&sk.positions[b].y));
+        let names = |js: &[usize]| {
+            js.iter()
+                .map(|&j| format!("{} {:.1}", sk.names[j], sk.positions[j]))
+                .collect::<Vec<_>>()
+        };
+        assert!(leaves.len() >= 6, "leaves {:?}", names(&leaves));
+        // Four feet near the ground, each on its own chain of at least three joints.
+        let feet = &leaves[..4];
+        let mut used = std::collections::HashSet::new();
+        for &f in feet {
+            assert!(sk.positions[f].y < lo.y + 0.2 * height, "feet {:?}", names(feet));
+            let c = chain(f);
+            assert!(c.len() >= 3, "leg chain {:?}", names(&c));
+            for j in c {
+                assert!(used.insert(j), "two legs share {}", sk.names[j]);
+            }
+        }
+        // Two feet on each side, two in front and two behind.
+        let mid = 0.5 * (lo + hi);
+        let side = long.cross(DVec3::Y);
+        let left = feet
+            .iter()
+            .filter(|&&f| (sk.positions[f] - mid).dot(side) > 0.0)
+            .count();
+        let front = feet
+            .iter()
+            .filter(|&&f| (sk.positions[f] - mid).dot(long) > 0.0)
+            .count();
+        assert_eq!((left, front), (2, 2), "feet {:?}", names(feet));
+        // The leaves farthest along the long axis either way (head and tail) are not
+        // feet and have chains of their own.
+        let along = |j: usize| (sk.positions[j] - mid).dot(long);
+        let rest = &leaves[4..];
+        let ends = [
+            rest.iter()
+                .copied()
+                .max_by(|&a, &b| along(a).total_cmp(&along(b)))
+                .unwrap(),
+            rest.iter()
+                .copied()
+                .min_by(|&a, &b| along(a).total_cmp(&along(b)))
+                .unwrap(),
+        ];
+        let length = (hi - lo).dot(long);
+        for e in ends {
+            assert!(along(e).abs() > 0.3 * length, "head/tail {:?}", names(&[e]));
+            assert!(chain(e).len() >= 2, "head/tail chain {:?}", names(&chain(e)));
+        }
     }
 }
