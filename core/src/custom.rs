@@ -14,7 +14,7 @@
 
 use std::sync::Arc;
 
-use crate::error::SpecError;
+use crate::error::{InputError, SpecError};
 use crate::kernel::ScalarKernel;
 use crate::mat_kernel::MatrixKernel;
 use crate::node::{ComputeContext, KnownInputs, NodeType};
@@ -390,6 +390,15 @@ impl NodeType for CustomNode {
 
     fn custom_affects(&self, custom: &[AttrSpec], first: AttrId) -> Result<CustomAffects, String> {
         self.base.custom_affects(custom, first)
+    }
+
+    fn check_input(&self, spec: &NodeSpec, attr: AttrId, value: &Value) -> Result<(), InputError> {
+        // Custom attributes come after the type's own, whose ids are unchanged.
+        if attr.index() < self.base.spec().attrs.len() {
+            self.base.check_input(spec, attr, value)
+        } else {
+            Ok(())
+        }
     }
 }
 

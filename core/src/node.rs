@@ -81,6 +81,17 @@ pub trait NodeType: Send + Sync + 'static {
         Vec::new()
     }
 
+    /// Checks a value authored for input `attr` in a rig file beyond its type (an
+    /// expression's syntax, say), so the loader reports a mistake at its place in the file
+    /// (`file:line:col`, inside a string when [`InputError::offset`] is given) instead of
+    /// at the first evaluation. `spec` is the node's own spec (custom attributes
+    /// included). `compute` must still cope with any value (values also arrive through
+    /// `set` and connections). The default accepts everything.
+    fn check_input(&self, spec: &NodeSpec, attr: AttrId, value: &Value) -> Result<(), InputError> {
+        let _ = (spec, attr, value);
+        Ok(())
+    }
+
     /// For node types whose compute reads or writes custom attributes (an expression node
     /// whose named inputs and outputs are custom attributes): given the custom attributes
     /// of a node (their ids start at `first`), which attributes affect each custom output
@@ -102,16 +113,6 @@ pub trait NodeType: Send + Sync + 'static {
             )),
             None => Ok(CustomAffects::default()),
         }
-    }
-
-    /// Checks a value authored for input `attr` in a rig file beyond its type (an
-    /// expression's syntax, say), so the loader reports a mistake at its place in the file
-    /// (`file:line:col`, inside a string when [`InputError::offset`] is given) instead of
-    /// at the first evaluation. `compute` must still cope with any value (values also
-    /// arrive through `set` and connections). The default accepts everything.
-    fn check_input(&self, attr: AttrId, value: &Value) -> Result<(), InputError> {
-        let _ = (attr, value);
-        Ok(())
     }
 }
 
