@@ -163,9 +163,9 @@ pub fn render(mesh: &Mesh, skeleton: &Skeleton, weights: Option<&Weights>, panel
                 );
             }
         }
-        for j in 0..skeleton.len() {
-            disc(&mut img, screen(skeleton.positions[j]), 3.5, BONE);
-            disc(&mut img, screen(skeleton.positions[j]), 2.2, joint_colour(j));
+        for (j, &p) in skeleton.positions.iter().enumerate() {
+            disc(&mut img, screen(p), 3.5, BONE);
+            disc(&mut img, screen(p), 2.2, joint_colour(j));
         }
         // A thin separator between the panels.
         if k > 0 {
