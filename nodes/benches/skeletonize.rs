@@ -105,6 +105,20 @@ fn bench(c: &mut Criterion) {
         );
     }
     g.finish();
+    // What a user runs: the default skeleton, then its weights.
+    let mut g = c.benchmark_group("skeleton_and_weights");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(3));
+    for m in &meshes {
+        g.bench_with_input(BenchmarkId::from_parameter(m.positions.len()), m, |b, m| {
+            b.iter(|| {
+                let sk = skeletonize(black_box(m), &params).unwrap();
+                bone_heat_weights(m, &sk, &wp).unwrap()
+            })
+        });
+    }
+    g.finish();
 }
 
 criterion_group!(benches, bench);

@@ -19,6 +19,7 @@ pub mod paths;
 mod profile_cmd;
 mod retarget_cmd;
 mod rig_cmds;
+pub mod skeleton_preview;
 mod skeletonize_cmd;
 #[cfg(feature = "view")]
 mod view_cmd;
@@ -266,18 +267,38 @@ enum Command {
         /// The rig file to write (its heavy data goes to RIG.data.ron next to it).
         #[arg(short, long)]
         output: PathBuf,
-        /// Silhouette raster resolution in pixels along the longer side (default 256).
+        /// Extraction method: auto (volume, or silhouette for a flat mesh), volume, silhouette.
+        #[arg(long, default_value = "auto", value_parser = skeletonize_cmd::parse_method)]
+        method: sinew_nodes::skeletonize::Method,
+        /// Volume cells along the mesh's longest side (default 96); with
+        /// `--method silhouette`, raster pixels (default 256).
         #[arg(long)]
         resolution: Option<usize>,
-        /// Bones per branch, spaced evenly (default: joints where branches turn).
+        /// Bones per limb, from its base to its tip (default 3): more joints where the
+        /// limb bends or thins.
+        #[arg(long)]
+        joints_per_limb: Option<usize>,
+        /// Bones per branch, spaced evenly, instead of joints at bends (0 = off).
         #[arg(long)]
         bones_per_branch: Option<usize>,
+        /// Fit a named skeleton: humanoid (the biped's joint names) or quadruped.
+        #[arg(long, value_parser = skeletonize_cmd::parse_template)]
+        template: Option<sinew_nodes::skeletonize::Template>,
+        /// Keep the skeleton as extracted, without mirror symmetry.
+        #[arg(long)]
+        no_symmetry: bool,
+        /// Give each separate part of the mesh its own root instead of joining it.
+        #[arg(long)]
+        separate_parts: bool,
         /// Joints per vertex in the skin weights (0 = unlimited).
         #[arg(long, default_value_t = 4)]
         max_influences: usize,
         /// Skip the skin weights and the skinCluster.
         #[arg(long)]
         no_weights: bool,
+        /// Also write a PNG: front and side views, each vertex in its dominant joint's colour.
+        #[arg(long)]
+        preview: Option<PathBuf>,
     },
 }
 
@@ -512,16 +533,28 @@ fn execute(cli: Cli, out: &mut Output<'_>) -> Result<(), CliError> {
         Command::Skeletonize {
             mesh,
             output,
+            method,
             resolution,
+            joints_per_limb,
             bones_per_branch,
+            template,
+            no_symmetry,
+            separate_parts,
             max_influences,
             no_weights,
+            preview,
         } => {
             let opts = skeletonize_cmd::SkeletonizeOptions {
+                method,
                 resolution,
+                joints_per_limb,
                 bones_per_branch,
+                template,
+                symmetry: !no_symmetry,
+                join_parts: !separate_parts,
                 max_influences,
                 weights: !no_weights,
+                preview,
             };
             out.text(&skeletonize_cmd::skeletonize_cmd(&mesh, &output, &opts, &registry)?)?
         }

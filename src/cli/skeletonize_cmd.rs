@@ -19,9 +19,13 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use sinew_core::{Registry, Value};
+use sinew_nodes::skeletonize::volume::PartFate;
 use sinew_nodes::skeletonize::{
-    bone_heat_weights_with_report, node::local_placement, skeletonize, Skeleton, SkeletonizeParams, WeightParams,
+    bone_heat_weights_with_report, node::local_placement, skeletonize_detailed, Method, Skeleton, SkeletonDetails,
+    SkeletonizeParams, Template, WeightParams,
 };
+
+use super::skeleton_preview as preview;
 
 use crate::io::mesh_file::load_mesh;
 use crate::io::rig_builder::RigBuilder;
@@ -29,25 +33,111 @@ use crate::io::rig_builder::RigBuilder;
 /// Options of `sinew skeletonize`.
 #[derive(Clone, Debug)]
 pub struct SkeletonizeOptions {
-    /// Silhouette raster resolution (pixels along the longer side).
+    /// Extraction method: `auto` (default), `volume` or `silhouette`.
+    pub method: Method,
+    /// Volume cells (or, for the silhouette method, raster pixels) along the mesh's
+    /// longest side (None: the library defaults, 96 cells and 256 pixels).
     pub resolution: Option<usize>,
-    /// Bones per branch (None or 0: joints where branches turn).
+    /// Bones per limb, from its base to its tip (None: the default, 3).
+    pub joints_per_limb: Option<usize>,
+    /// Bones per branch spaced evenly, no articulation search (None or 0: off).
     pub bones_per_branch: Option<usize>,
+    /// A named skeleton to fit (`humanoid`, `quadruped`).
+    pub template: Option<Template>,
+    /// Detect a mirror plane and make the skeleton symmetric.
+    pub symmetry: bool,
+    /// Join separate parts of the mesh to the nearest part (off: one root per part).
+    pub join_parts: bool,
     /// Joints per vertex in the weights (0 = unlimited).
     pub max_influences: usize,
     /// Compute bone-heat weights and write a skinCluster.
     pub weights: bool,
+    /// Write a PNG preview (front and side views, dominant joint per vertex) here.
+    pub preview: Option<std::path::PathBuf>,
 }
 
 impl Default for SkeletonizeOptions {
     fn default() -> Self {
         SkeletonizeOptions {
+            method: Method::Auto,
             resolution: None,
+            joints_per_limb: None,
             bones_per_branch: None,
+            template: None,
+            symmetry: true,
+            join_parts: true,
             max_influences: WeightParams::default().max_influences,
             weights: true,
+            preview: None,
         }
     }
+}
+
+/// Parses `--method`: `auto`, `volume` or `silhouette`.
+pub fn parse_method(s: &str) -> Result<Method, String> {
+    match s.to_ascii_lowercase().as_str() {
+        "auto" => Ok(Method::Auto),
+        "volume" => Ok(Method::Volume),
+        "silhouette" => Ok(Method::Silhouette),
+        _ => Err(format!("unknown method `{s}`; use auto, volume or silhouette")),
+    }
+}
+
+/// Parses `--template`: `humanoid` (or `biped`) or `quadruped`.
+pub fn parse_template(s: &str) -> Result<Template, String> {
+    Template::parse(s).ok_or_else(|| format!("unknown template `{s}`; use humanoid or quadruped"))
+}
+
+/// The library parameters for `opts`.
+fn params(opts: &SkeletonizeOptions) -> SkeletonizeParams {
+    let d = SkeletonizeParams::default();
+    let silhouette = opts.method == Method::Silhouette;
+    SkeletonizeParams {
+        method: opts.method,
+        resolution: opts.resolution.filter(|_| !silhouette).unwrap_or(d.resolution),
+        silhouette_resolution: opts
+            .resolution
+            .filter(|_| silhouette)
+            .unwrap_or(d.silhouette_resolution),
+        joints_per_limb: opts.joints_per_limb.unwrap_or(d.joints_per_limb).max(1),
+        bones_per_branch: opts.bones_per_branch.filter(|&b| b > 0),
+        template: opts.template,
+        symmetry: opts.symmetry,
+        join_parts: opts.join_parts,
+        ..d
+    }
+}
+
+/// One line per notable fact of the extraction: method, mirror plane, parts.
+fn describe(d: &SkeletonDetails) -> String {
+    let method = match d.method {
+        Method::Silhouette => "silhouette (the mesh is flat, or asked for)",
+        _ => "volume",
+    };
+    let mut s = format!("method: {method}");
+    match &d.mirror {
+        Some(m) => s.push_str(&format!(
+            "; mirror plane through {:.3} with normal {:.3}: {} limb pairs named _L/_R",
+            m.origin, m.normal, d.symmetry.pairs
+        )),
+        None => s.push_str("; no mirror plane (the mesh is not symmetric within the tolerance)"),
+    }
+    if let Some(v) = &d.volume {
+        if v.parts.len() > 1 {
+            let count = |f: fn(&PartFate) -> bool| v.parts.iter().filter(|p| f(&p.fate)).count();
+            s.push_str(&format!(
+                "\nparts: {} separate parts: {} joined to the nearest part by a bridge bone, {} kept as separate roots, {} too small for joints of their own (weighted to the nearest bones)",
+                v.parts.len(),
+                count(|f| matches!(f, PartFate::Joined { .. })),
+                count(|f| matches!(f, PartFate::Separate)),
+                count(|f| matches!(f, PartFate::TooSmall)),
+            ));
+        }
+        if v.shell_only {
+            s.push_str("\nnote: the mesh has holes too wide to seal; its shell alone was used");
+        }
+    }
+    s
 }
 
 /// Number of branches: maximal joint paths between key joints (roots, ends, junctions),
@@ -72,16 +162,19 @@ pub fn skeletonize_cmd(
     registry: &Arc<Registry>,
 ) -> Result<String, String> {
     crate::cli::paths::check_rig_output(&[mesh_path], out)?;
+    if let Some(p) = &opts.preview {
+        if !p.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) {
+            return Err(format!("{}: the preview is a PNG image; name it `*.png`", p.display()));
+        }
+        crate::cli::paths::check_outputs(&[mesh_path], &[out, p.as_path()])?;
+    }
     let start = Instant::now();
     let mesh = load_mesh(mesh_path)?;
     let loaded = start.elapsed();
-    let params = SkeletonizeParams {
-        resolution: opts.resolution.unwrap_or(SkeletonizeParams::default().resolution),
-        bones_per_branch: opts.bones_per_branch.filter(|&b| b > 0),
-        ..SkeletonizeParams::default()
-    };
+    let params = params(opts);
     let t0 = Instant::now();
-    let sk = skeletonize(&mesh, &params).map_err(|e| format!("{}: {e}", mesh_path.display()))?;
+    let details = skeletonize_detailed(&mesh, &params).map_err(|e| format!("{}: {e}", mesh_path.display()))?;
+    let sk = &details.skeleton;
     let t_skeleton = t0.elapsed();
     let t1 = Instant::now();
     let weights = if opts.weights {
@@ -93,7 +186,7 @@ pub fn skeletonize_cmd(
             },
             ..WeightParams::default()
         };
-        Some(bone_heat_weights_with_report(&mesh, &sk, &wp).map_err(|e| format!("{}: {e}", mesh_path.display()))?)
+        Some(bone_heat_weights_with_report(&mesh, sk, &wp).map_err(|e| format!("{}: {e}", mesh_path.display()))?)
     } else {
         None
     };
@@ -101,7 +194,7 @@ pub fn skeletonize_cmd(
 
     let stem = out.file_stem().and_then(|s| s.to_str()).unwrap_or("rig").to_string();
     let mut rig = RigBuilder::new(&stem, 24.0);
-    let (translates, orients) = local_placement(&sk);
+    let (translates, orients) = local_placement(sk);
     let mut names: Vec<String> = Vec::with_capacity(sk.len());
     for j in 0..sk.len() {
         let name = rig.name(&sk.names[j], &format!("joint{j}"));
@@ -162,9 +255,11 @@ pub fn skeletonize_cmd(
         mesh.positions.len(),
         mesh.triangles.len(),
         sk.len(),
-        branch_count(&sk),
+        branch_count(sk),
         roots.join(", "),
     );
+    msg.push('\n');
+    msg.push_str(&describe(&details));
     msg.push_str(&format!(
         "\ntime: load {:.1} ms, skeleton {:.1} ms, weights {}",
         ms(loaded),
@@ -181,6 +276,14 @@ pub fn skeletonize_cmd(
         ));
     }
     msg.push_str(&format!("\nwrote {} (data: {})", out.display(), data.display()));
+    if let Some(path) = &opts.preview {
+        let img = preview::render(&mesh, sk, weights.as_ref().map(|(w, _)| w), 480);
+        preview::write_png(&img, path)?;
+        msg.push_str(&format!(
+            "\nwrote {} (front and side views, dominant joint per vertex)",
+            path.display()
+        ));
+    }
     Ok(msg)
 }
 
@@ -210,181 +313,5 @@ fn ms(d: std::time::Duration) -> f64 {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::cli::{eval, EvalRequest};
-    use glam::{DVec3, Vec3};
-    use sinew_nodes::skeletonize::shapes;
-
-    fn obj_text(m: &sinew_core::Mesh) -> String {
-        let mut s = String::from("# procedural test mesh\no body\n");
-        for p in &m.positions {
-            s.push_str(&format!("v {} {} {}\n", p.x, p.y, p.z));
-        }
-        for t in &m.triangles {
-            s.push_str(&format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1));
-        }
-        s
-    }
-
-    fn tmp(name: &str) -> std::path::PathBuf {
-        let d = std::env::temp_dir().join(format!("sinew-skeletonize-{}-{name}", std::process::id()));
-        std::fs::create_dir_all(&d).unwrap();
-        d
-    }
-
-    /// Writes the humanoid as OBJ, runs the command, checks the rig and evaluates each
-    /// joint's worldMatrix against the `skeletonize` node's `jointPositions` on the same mesh.
-    #[test]
-    fn humanoid_obj_to_checked_rig() {
-        let registry = crate::default_registry().unwrap();
-        let d = tmp("humanoid");
-        let mesh = shapes::humanoid(12);
-        let obj = d.join("body.obj");
-        std::fs::write(&obj, obj_text(&mesh)).unwrap();
-        let out = d.join("body.ron");
-        let summary = skeletonize_cmd(&obj, &out, &SkeletonizeOptions::default(), &registry).unwrap();
-        assert!(summary.contains("joints") && summary.contains("branches"), "{summary}");
-        let check = crate::cli::rig_cmds::check(&out, &registry).unwrap();
-        assert!(!check.contains("error"), "{check}");
-
-        // The node on the mesh as loaded back from the OBJ (f32 text round trip).
-        let loaded = load_mesh(&obj).unwrap();
-        let mut g = sinew_core::Graph::new(registry.clone());
-        g.add_node("skeletonize", "sk").unwrap();
-        g.set_path("sk.inMesh", Value::Mesh(Arc::new(loaded.clone()))).unwrap();
-        g.set_path("sk.computeWeights", Value::Bool(false)).unwrap();
-        let Value::Vec3Array(pos) = g.get_path("sk.jointPositions").unwrap() else {
-            panic!()
-        };
-        let Value::IntArray(par) = g.get_path("sk.jointParents").unwrap() else {
-            panic!()
-        };
-        // Ends: 5 (head, hands, feet).
-        let ends = (0..par.len())
-            .filter(|&j| par.iter().filter(|&&p| p == j as i64).count() + usize::from(par[j] >= 0) == 1)
-            .count();
-        assert_eq!(ends, 5);
-
-        // Joint names in the rig come from the skeleton, in order: read them back.
-        let rig = crate::cli::rig_cmds::load(&out, &registry).unwrap();
-        let mut graph = rig.graph;
-        let joints: Vec<String> = graph
-            .nodes()
-            .into_iter()
-            .filter(|&id| graph.node_type(id) == Some("joint"))
-            .map(|id| graph.node_name(id).unwrap().to_string())
-            .collect();
-        assert_eq!(joints.len(), pos.len());
-        // Compare the k-th joint in the file order with the node's jointPositions[k].
-        let text = std::fs::read_to_string(&out).unwrap();
-        let mut order: Vec<(usize, String)> = joints
-            .iter()
-            .map(|n| (text.find(&format!("\"{n}\": joint")).unwrap(), n.clone()))
-            .collect();
-        order.sort();
-        for (k, (_, n)) in order.iter().enumerate() {
-            let req = EvalRequest {
-                frames: Some("1".into()),
-                ..EvalRequest::new(&out, &[&format!("{n}.worldMatrix")])
-            };
-            let csv = eval(&req, &registry).unwrap();
-            let last = csv.lines().last().unwrap();
-            let nums: Vec<f64> = last.split(',').filter_map(|x| x.trim().parse().ok()).collect();
-            assert!(nums.len() >= 16, "{csv}");
-            let m = &nums[nums.len() - 16..];
-            let p = DVec3::new(m[12], m[13], m[14]);
-            assert!(p.distance(pos[k]) < 1e-6, "{n}: eval {p} vs node {}", pos[k]);
-            let Value::Matrix(wm) = graph.get_path(&format!("{n}.worldMatrix")).unwrap() else {
-                panic!()
-            };
-            assert!(wm.w_axis.truncate().distance(pos[k]) < 1e-9);
-        }
-
-        // Bound: the skinned mesh equals the rest mesh (bindPreMatrix = inverse rest world).
-        let skin = graph
-            .nodes()
-            .into_iter()
-            .find(|&id| graph.node_type(id) == Some("skinCluster"))
-            .unwrap();
-        let sname = graph.node_name(skin).unwrap().to_string();
-        let Value::Mesh(skinned) = graph.get_path(&format!("{sname}.outputGeometry")).unwrap() else {
-            panic!()
-        };
-        // The OBJ loader keeps the file's vertex order: the mesh as loaded is the mesh written.
-        assert_eq!(loaded.positions, mesh.positions);
-        assert_eq!(loaded.triangles, mesh.triangles);
-        assert_eq!(skinned.positions.len(), loaded.positions.len());
-        for (a, b) in skinned.positions.iter().zip(&loaded.positions) {
-            assert!(a.distance(*b) < 1e-4, "{a} vs {b}");
-        }
-        // Moving the root moves the mesh.
-        graph
-            .set_path(&format!("{}.translate", order[0].1), Value::Vec3(pos[0] + DVec3::Y))
-            .unwrap();
-        let Value::Mesh(moved) = graph.get_path(&format!("{sname}.outputGeometry")).unwrap() else {
-            panic!()
-        };
-        let shift = moved
-            .positions
-            .iter()
-            .zip(&loaded.positions)
-            .map(|(a, b)| (*a - *b).y)
-            .sum::<f32>()
-            / loaded.positions.len() as f32;
-        assert!(shift > 0.2, "mean shift {shift}");
-        let _ = std::fs::remove_dir_all(&d);
-    }
-
-    #[test]
-    fn capsule_without_weights_and_bad_input() {
-        let registry = crate::default_registry().unwrap();
-        let d = tmp("capsule");
-        let mesh = shapes::capsule(Vec3::new(0.0, 0.0, 0.0), Vec3::new(0.0, 2.0, 0.0), 0.3, 16);
-        let obj = d.join("cap.obj");
-        std::fs::write(&obj, obj_text(&mesh)).unwrap();
-        let out = d.join("cap.ron");
-        let opts = SkeletonizeOptions {
-            bones_per_branch: Some(4),
-            weights: false,
-            resolution: Some(128),
-            ..Default::default()
-        };
-        let summary = skeletonize_cmd(&obj, &out, &opts, &registry).unwrap();
-        // One branch of four bones: five joints.
-        assert!(summary.contains("5 joints, 1 branches"), "{summary}");
-        crate::cli::rig_cmds::check(&out, &registry).unwrap();
-        let text = std::fs::read_to_string(&out).unwrap();
-        assert!(!text.contains("skinCluster"));
-        assert!(text.starts_with("// Written by `sinew skeletonize`"), "{text}");
-        // Errors: unknown extension, missing file, degenerate mesh.
-        let e = skeletonize_cmd(&d.join("x.stl"), &out, &opts, &registry).unwrap_err();
-        assert!(e.contains(".obj"), "{e}");
-        assert!(skeletonize_cmd(&d.join("missing.obj"), &out, &opts, &registry).is_err());
-        let flat = d.join("flat.obj");
-        std::fs::write(&flat, "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n").unwrap();
-        let e = skeletonize_cmd(&flat, &out, &opts, &registry).unwrap_err();
-        assert!(e.contains("degenerate"), "{e}");
-        let _ = std::fs::remove_dir_all(&d);
-    }
-
-    #[test]
-    fn arguments_parse() {
-        use clap::Parser;
-        let cli = crate::cli::Cli::try_parse_from([
-            "sinew",
-            "skeletonize",
-            "a.obj",
-            "-o",
-            "r.ron",
-            "--resolution",
-            "64",
-            "--bones-per-branch",
-            "2",
-            "--max-influences",
-            "3",
-            "--no-weights",
-        ]);
-        assert!(cli.is_ok(), "{cli:?}");
-    }
-}
+#[path = "skeletonize_cmd_tests.rs"]
+mod tests;

@@ -1,33 +1,36 @@
 //! Skeleton extraction from a mesh, end to end: the public entry point
 //! [`skeletonize`], its parameters, its result type and its errors.
 //!
-//! Pipeline: principal-axes view ([`Frame`]) → silhouette raster with front/back
-//! depth ([`Raster`]) → outline loops grouped into parts ([`Part`]) → chordal axis
-//! per part → mid-depth lift → joints. Every stage works on any input: the raster
-//! absorbs holes, several parts, non-manifold edges and degenerate triangles, and
-//! outline tracing visits each pixel edge once, so it always terminates.
-//!
-//! Several parts: by default only the largest silhouette part is skeletonized
-//! (one root); with [`SkeletonizeParams::all_parts`] every part gets its own tree
-//! (one root each, largest first).
+//! Pipeline: a curve graph from one of two methods — the volume method (the solid's
+//! level-set skeleton, [`super::volume`]; the default) or the silhouette method (the
+//! chordal axis of one view, [`super::silhouette`]; for flat meshes, or on request) —
+//! then its root at the torso's centre of mass ([`super::tree`]), mirror symmetry
+//! ([`super::symmetry`]) and joints ([`super::articulate`]). Every stage works on any
+//! input; what could not be used is reported in [`SkeletonDetails`], never dropped
+//! silently.
 
-use glam::{DQuat, DVec2, DVec3};
+use glam::{DQuat, DVec3};
 
-use super::chordal_axis::{chordal_axis, AxisParams};
-use super::depth::{lift, Axis3};
-use super::joints::{build, JointParams};
-use super::outline::{parts, Part};
-use super::raster::{Frame, Raster};
+use super::articulate::{articulate, Chain, JointParams};
+use super::curve::CurveGraph;
+use super::raster::Frame;
+use super::silhouette::silhouette_graph;
+use super::symmetry::{symmetrize, Mirror, SymmetryReport};
+use super::template::{fit, Template};
+use super::tree::{choose_roots, grow, Tree};
+use super::volume::{curve_graph, PartFate, VolumeParams, VolumeReport};
 use sinew_core::data::Mesh;
 
 /// A joint hierarchy in parent-first order with world-space placement.
 ///
 /// Orientation convention: each joint's +X aims at its main child (the one with the
-/// longest subtree), +Z is the silhouette's view axis made perpendicular to +X,
-/// +Y = Z × X; leaves copy their parent's orientation.
+/// longest subtree), +Z is the mesh's axis of least extent (its principal axis of
+/// least variance) made perpendicular to +X, +Y = Z × X; leaves copy their parent's
+/// orientation; right joints of mirror pairs are their left joints turned 180° about
+/// the mirror normal (see [`super::articulate`]).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Skeleton {
-    /// Unique joint names (`root`, `branchN_K`, `junctionN`, `branchN_end`).
+    /// Unique joint names (see [`super::articulate`] for the scheme).
     pub names: Vec<String>,
     /// Parent of each joint; parents come before their children.
     pub parents: Vec<Option<usize>>,
@@ -75,58 +78,103 @@ impl Skeleton {
     }
 }
 
+/// Which extraction method to use.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Method {
+    /// The volume method, or the silhouette method for a flat mesh (thinner than
+    /// 2.5 cells along its axis of least extent).
+    #[default]
+    Auto,
+    /// The level-set skeleton of the voxelized solid ([`super::volume`]).
+    Volume,
+    /// The chordal axis of one silhouette, centred in depth ([`super::silhouette`]).
+    Silhouette,
+}
+
 /// Parameters of [`skeletonize`]. `Default` gives values that suit typical characters.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SkeletonizeParams {
-    /// Silhouette raster size in pixels along its longer side (default 256, clamped to 8..=4096).
+    /// Extraction method (default [`Method::Auto`]).
+    pub method: Method,
+    /// Volume method: cells along the bounding box's longest side (default 96, at
+    /// least 8; the cell size grows if the grid would exceed 2²⁴ cells).
     pub resolution: usize,
-    /// Gaps up to `2 × close_radius` pixels wide are closed (default 1).
+    /// Silhouette method: raster size in pixels along its longer side (default 256,
+    /// clamped to 8..=4096).
+    pub silhouette_resolution: usize,
+    /// Volume method: width of a distance band in cells (default 1.8, the least).
+    pub band: f64,
+    /// Silhouette method: gaps up to `2 × close_radius` pixels wide are closed (default 1).
     pub close_radius: usize,
-    /// Outline simplification tolerance in pixels (default 1.0).
+    /// Silhouette method: outline simplification tolerance in pixels (default 1.0).
     pub simplify_tolerance: f64,
-    /// Outline loops smaller than this many square pixels are ignored (default 6.0).
+    /// Silhouette method: outline loops smaller than this many square pixels are
+    /// ignored (default 6.0).
     pub min_loop_area: f64,
-    /// A terminal branch shorter than `prune_factor ×` the inscribed radius at its
-    /// junction is pruned (default 1.6).
+    /// A terminal chain shorter than `prune_factor ×` the body radius at its junction
+    /// is pruned (default 1.2).
     pub prune_factor: f64,
     /// Junctions closer than `merge_factor ×` their radius are merged (default 1.5).
     pub merge_factor: f64,
-    /// Smoothing passes over each branch, in plane and in depth (default 3).
+    /// Smoothing passes over the curve points (default 1; the silhouette method
+    /// smooths its axis three times this).
     pub smooth_iterations: usize,
-    /// An interior joint is placed where a branch turns by more than this many
-    /// degrees (default 30).
+    /// A limb bend sharper than this many degrees is an articulation (default 20).
     pub angle_limit_degrees: f64,
-    /// Turn detection tolerance as a multiple of the local half-width (default 0.5).
-    pub turn_tolerance: f64,
-    /// When set, every branch gets exactly this many bones spaced by arc length,
-    /// instead of joints at turns (default `None`).
+    /// A radius at least this fraction below the largest on both sides is an
+    /// articulation (default 0.15).
+    pub thinning: f64,
+    /// Bones per limb, from the limb's base to its tip (default 3).
+    pub joints_per_limb: usize,
+    /// When set, every branch gets exactly this many bones spaced by arc length, with
+    /// no base joints or articulation search (default `None`).
     pub bones_per_branch: Option<usize>,
-    /// Root at the skeleton point nearest this world position (default `None`:
-    /// the highest-degree junction nearest the centroid; for a chain, its lowest end).
+    /// Root at the skeleton point nearest this world position (default `None`: the
+    /// torso's centre of mass).
     pub root_hint: Option<DVec3>,
-    /// View along this axis instead of the least-variance principal axis (default `None`).
+    /// Silhouette method: view along this axis instead of the least-variance axis
+    /// (default `None`).
     pub view_axis: Option<DVec3>,
-    /// Skeletonize every silhouette part (one root each) instead of only the largest
-    /// (default `false`).
-    pub all_parts: bool,
+    /// Join separate parts to the nearest part by a bridge bone (default `true`);
+    /// when off, each part gets its own root.
+    pub join_parts: bool,
+    /// Parts smaller than this fraction of the largest one get no joints of their own
+    /// (reported; default 0.01).
+    pub min_part_fraction: f64,
+    /// Detect a mirror plane and make the skeleton symmetric (default `true`).
+    pub symmetry: bool,
+    /// The mesh counts as symmetric when at most this fraction of its volume has no
+    /// mirror image within one cell (default 0.03).
+    pub symmetry_tolerance: f64,
+    /// Fit a named skeleton to the extracted one (default `None`: the extracted joints
+    /// with generic names).
+    pub template: Option<Template>,
 }
 
 impl Default for SkeletonizeParams {
     fn default() -> Self {
         SkeletonizeParams {
-            resolution: 256,
+            method: Method::Auto,
+            resolution: 96,
+            silhouette_resolution: 256,
+            band: 1.8,
             close_radius: 1,
             simplify_tolerance: 1.0,
             min_loop_area: 6.0,
-            prune_factor: 1.6,
+            prune_factor: 1.2,
             merge_factor: 1.5,
-            smooth_iterations: 3,
-            angle_limit_degrees: 30.0,
-            turn_tolerance: 0.5,
+            smooth_iterations: 1,
+            angle_limit_degrees: 20.0,
+            thinning: 0.15,
+            joints_per_limb: 3,
             bones_per_branch: None,
             root_hint: None,
             view_axis: None,
-            all_parts: false,
+            join_parts: true,
+            min_part_fraction: 0.01,
+            symmetry: true,
+            symmetry_tolerance: 0.03,
+            template: None,
         }
     }
 }
@@ -148,44 +196,59 @@ pub enum SkeletonizeError {
     /// The mesh has no extent in at least two directions (a point or a line).
     #[error("the mesh is degenerate: it has no area when seen from any side (extent {extent:e}); a skeleton needs a mesh with width and length")]
     Degenerate {
-        /// The largest extent of the mesh seen along its view axis.
+        /// The largest extent of the mesh.
         extent: f64,
     },
-    /// The silhouette has no interior to draw an axis in.
+    /// Nothing inside to draw an axis in.
     #[error(
-        "the silhouette has no interior (it covers fewer than a few pixels); raise the resolution or check the mesh"
+        "the mesh has no interior to put a skeleton in (its solid or silhouette covers fewer than a few cells); raise the resolution or check the mesh"
     )]
     NoInterior,
     /// The skeleton has no joints (weights need at least one).
     #[error("the skeleton has no joints")]
     EmptySkeleton,
+    /// The template does not fit the extracted skeleton.
+    #[error("{0}")]
+    Template(String),
     /// The sparse solver failed and no fallback applied.
     #[error("the weights solve failed: {0}")]
     Solver(String),
 }
 
-/// Everything [`skeletonize_detailed`] computed on the way, for inspection and drawing.
+/// Everything [`skeletonize_detailed`] computed on the way, for reports and drawing.
 #[derive(Clone, Debug)]
 pub struct SkeletonDetails {
     /// The skeleton.
     pub skeleton: Skeleton,
-    /// The projection frame.
+    /// The method used (never [`Method::Auto`]).
+    pub method: Method,
+    /// The mesh's principal frame (`w`: the axis of least extent).
     pub frame: Frame,
-    /// Silhouette parts in plane coordinates, largest first.
-    pub parts: Vec<Part>,
-    /// The chordal axis of the skeletonized parts, lifted to 3D.
-    pub axis: Axis3,
+    /// The cleaned curve graph the skeleton was built on.
+    pub graph: CurveGraph,
+    /// The rooted tree of branches (after symmetrization).
+    pub tree: Tree,
+    /// Per tree branch, its joints (in the extracted skeleton, before any template).
+    pub chains: Vec<Chain>,
+    /// The mirror plane the skeleton is symmetric across.
+    pub mirror: Option<Mirror>,
+    /// What the symmetrization did.
+    pub symmetry: SymmetryReport,
+    /// The volume method's report (grid, parts, holes, loops, mismatch).
+    pub volume: Option<VolumeReport>,
+    /// The silhouette method's outline parts, largest first, and what became of each.
+    pub silhouette_parts: Vec<PartFate>,
 }
 
 /// Extracts a joint hierarchy from `mesh`.
 ///
 /// Never panics; returns an error for empty, invalid or degenerate meshes, or when
-/// the silhouette has no interior at the chosen resolution.
+/// nothing of the mesh has an interior at the chosen resolution.
 pub fn skeletonize(mesh: &Mesh, params: &SkeletonizeParams) -> Result<Skeleton, SkeletonizeError> {
     skeletonize_detailed(mesh, params).map(|d| d.skeleton)
 }
 
-/// Like [`skeletonize`], also returning the intermediate frame, outline and axis.
+/// Like [`skeletonize`], also returning what was computed on the way.
 pub fn skeletonize_detailed(mesh: &Mesh, params: &SkeletonizeParams) -> Result<SkeletonDetails, SkeletonizeError> {
     if mesh.positions.is_empty() || mesh.triangles.is_empty() {
         return Err(SkeletonizeError::EmptyMesh {
@@ -194,65 +257,110 @@ pub fn skeletonize_detailed(mesh: &Mesh, params: &SkeletonizeParams) -> Result<S
         });
     }
     mesh.validate().map_err(SkeletonizeError::InvalidMesh)?;
-    let frame = Frame::principal(mesh, params.view_axis).ok_or(SkeletonizeError::Degenerate { extent: 0.0 })?;
-    let (lo, hi) = mesh.positions.iter().fold(
-        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
-        |(lo, hi), p| {
-            let q = frame.to_plane(p.as_dvec3());
-            (lo.min(q), hi.max(q))
-        },
-    );
+    let frame = Frame::principal(mesh, None).ok_or(SkeletonizeError::Degenerate { extent: 0.0 })?;
+    let (lo, hi) = frame_extent(mesh, &frame);
     let ext = hi - lo;
-    let has_area = ext.min_element() > 1e-9 * ext.max_element().max(1e-300);
-    if !has_area || ext.max_element() <= 0.0 {
+    let longest = ext.max_element();
+    let mut sorted = [ext.x, ext.y, ext.z];
+    sorted.sort_by(f64::total_cmp);
+    let middle = sorted[1];
+    if !(longest > 0.0 && longest.is_finite()) || middle <= 1e-9 * longest {
         return Err(SkeletonizeError::Degenerate {
-            extent: ext.max_element().max(0.0),
+            extent: longest.max(0.0),
         });
     }
-    let raster = Raster::draw(mesh, &frame, params.resolution.max(8), params.close_radius).ok_or(
-        SkeletonizeError::Degenerate {
-            extent: ext.max_element(),
-        },
-    )?;
-    let px = raster.pixel;
-    let mut all = parts(
-        &raster,
-        params.simplify_tolerance.max(0.0) * px,
-        params.min_loop_area.max(0.0) * px * px,
-    );
-    if all.is_empty() {
-        return Err(SkeletonizeError::NoInterior);
-    }
-    if !params.all_parts {
-        all.truncate(1);
-    }
-    let axis_params = AxisParams {
-        prune_factor: params.prune_factor,
-        merge_factor: params.merge_factor,
-        smooth_iterations: params.smooth_iterations,
+    let resolution = params.resolution.max(8);
+    let flat = sorted[0] < 2.5 * longest / resolution as f64;
+    let method = match params.method {
+        Method::Auto if flat => Method::Silhouette,
+        Method::Auto => Method::Volume,
+        m => m,
     };
-    let mut axis = Axis3::default();
-    for part in &all {
-        let a2 = chordal_axis(part, &axis_params);
-        axis.append(lift(&a2, &raster, &frame, params.smooth_iterations));
-    }
-    if axis.branches.is_empty() {
+    let (graph, volume, silhouette_parts, mirror_hint) = match method {
+        Method::Silhouette => {
+            let (g, fates) = silhouette_graph(mesh, params)?;
+            (g, None, fates, None)
+        }
+        _ => {
+            let vp = VolumeParams {
+                resolution,
+                band: params.band,
+                prune_factor: params.prune_factor,
+                merge_factor: params.merge_factor,
+                smooth_iterations: params.smooth_iterations,
+                min_part_fraction: params.min_part_fraction,
+                symmetry_tolerance: params.symmetry.then_some(params.symmetry_tolerance),
+            };
+            let (g, report, _) =
+                curve_graph(mesh, &vp, params.join_parts).ok_or(SkeletonizeError::Degenerate { extent: longest })?;
+            let m = report.mirror;
+            (g, Some(report), Vec::new(), m)
+        }
+    };
+    if graph.live().next().is_none() {
         return Err(SkeletonizeError::NoInterior);
     }
+    // The silhouette's axis keeps the loops of holes; joins never make one, but the
+    // hierarchy needs a tree whatever the graph.
+    let mut graph = graph;
+    graph.break_loops();
+    let cell = volume
+        .as_ref()
+        .map_or(longest / params.silhouette_resolution.max(8) as f64, |v| v.grid.h);
+    let mirror = if params.symmetry && params.root_hint.is_none() {
+        mirror_hint
+    } else {
+        None
+    };
+    let on_plane = |p: DVec3| mirror.is_none_or(|m| m.distance(p).abs() <= 1.5 * cell);
+    let roots = choose_roots(&graph, params.root_hint, &on_plane);
+    let mut tree = grow(&graph, &roots);
+    let symmetry = match &mirror {
+        Some(m) => symmetrize(&mut tree, m, 1.5 * cell),
+        None => SymmetryReport::default(),
+    };
     let joint_params = JointParams {
+        joints_per_limb: params.joints_per_limb.max(1),
+        bones_per_branch: params.bones_per_branch.filter(|&b| b > 0),
         angle_limit: params.angle_limit_degrees.to_radians(),
-        turn_tolerance: params.turn_tolerance,
-        bones_per_branch: params.bones_per_branch,
-        root_hint: params.root_hint,
+        thinning: params.thinning,
+        reference: frame.w,
     };
-    let skeleton = build(&axis, &frame, &joint_params, params.all_parts);
-    if skeleton.is_empty() {
+    let art = articulate(&tree, &joint_params, mirror.as_ref());
+    if art.skeleton.is_empty() {
         return Err(SkeletonizeError::NoInterior);
     }
+    let skeleton = match params.template {
+        Some(t) => fit(t, &art, &tree, mirror.as_ref(), frame.w)?,
+        None => art.skeleton,
+    };
     Ok(SkeletonDetails {
         skeleton,
+        method,
         frame,
-        parts: all,
-        axis,
+        graph,
+        tree,
+        chains: art.chains,
+        mirror,
+        symmetry,
+        volume,
+        silhouette_parts,
     })
+}
+
+/// Bounds of the vertices used by triangles, in the frame's (u, v, w) coordinates.
+fn frame_extent(mesh: &Mesh, frame: &Frame) -> (DVec3, DVec3) {
+    let mut lo = DVec3::INFINITY;
+    let mut hi = DVec3::NEG_INFINITY;
+    for t in &mesh.triangles {
+        for &i in t {
+            if let Some(p) = mesh.positions.get(i as usize) {
+                let d = p.as_dvec3() - frame.origin;
+                let q = DVec3::new(d.dot(frame.u), d.dot(frame.v), d.dot(frame.w));
+                lo = lo.min(q);
+                hi = hi.max(q);
+            }
+        }
+    }
+    (lo, hi)
 }

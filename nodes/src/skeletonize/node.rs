@@ -1,21 +1,31 @@
 //! The `skeletonize` node: a joint hierarchy and bone-heat skin weights from a mesh,
 //! wrapping [`super::skeletonize`] and [`super::bone_heat_weights`].
 //!
-//! Inputs:
+//! Inputs (defaults from [`SkeletonizeParams::default`]):
 //! - `inMesh` (mesh): the mesh, in the space the skeleton is wanted in (normally world).
-//! - `resolution` (int, 256): silhouette raster size along its longer side (clamped to
-//!   8..=4096 by the algorithm).
-//! - `pruneFactor` (float, 1.6): terminal branches shorter than this × the local inscribed
-//!   radius are pruned.
-//! - `angleLimit` (float, degrees, 30): a joint is placed where a branch turns by more.
-//! - `bonesPerBranch` (int, 0 = auto): when positive, every branch gets exactly this many
-//!   bones (spaced by arc length) instead of joints at turns. Negative counts as 0; values
-//!   above [`MAX_BONES_PER_BRANCH`] are lowered to it.
+//! - `method` (enum `auto`, `volume`, `silhouette`; `auto`): the volume method, or the
+//!   silhouette method for a flat mesh (see [`super::Method`]).
+//! - `resolution` (int, 96): volume cells along the mesh's longest side (at least 8).
+//! - `silhouetteResolution` (int, 256): silhouette raster size (clamped to 8..=4096).
+//! - `jointsPerLimb` (int, 3): bones per limb at least, from its base to its tip
+//!   (articulations add more); at least 1.
+//! - `pruneFactor` (float, 1.2): terminal branches sticking out less than this × the local
+//!   body radius are pruned.
+//! - `angleLimit` (float, degrees, 20): a limb bend sharper than this is an articulation.
+//! - `thinning` (float, 0.15): a radius this fraction below its neighbours' is an
+//!   articulation.
+//! - `bonesPerBranch` (int, 0 = off): when positive, every branch gets exactly this many
+//!   bones spaced by arc length instead. Negative counts as 0; values above
+//!   [`MAX_BONES_PER_BRANCH`] are lowered to it.
+//! - `symmetry` (bool, on) and `symmetryTolerance` (float, 0.03): detect a mirror plane and
+//!   make the skeleton exactly symmetric across it (`_L`/`_R` pairs) when at most that
+//!   fraction of the volume has no mirror image.
+//! - `joinParts` (bool, on): join separate parts to the nearest part by a bridge bone; off:
+//!   one root per part.
 //! - `rootHint` (vec3) + `useRootHint` (bool, off): root at the skeleton point nearest
-//!   `rootHint` instead of the automatic choice (the highest-degree junction nearest the
-//!   centroid; for a single chain, its lowest end).
-//! - `allParts` (bool, off): skeletonize every silhouette part (one root each) instead of
-//!   only the largest.
+//!   `rootHint` instead of the torso's centre of mass (turns symmetrization off).
+//! - `template` (enum `none`, `humanoid`, `quadruped`; `none`): fit a named skeleton (the
+//!   biped's joint names) to the extracted one (see [`super::template`]).
 //! - `maxInfluences` (int, 4): joints per vertex kept in `weights`; 0 or less = unlimited.
 //! - `computeWeights` (bool, on): compute `weights`; when off `weights` is empty (0
 //!   vertices) and the (expensive) solve is skipped.
@@ -23,12 +33,14 @@
 //! Outputs (joints in parent-first order, roots first in their tree):
 //! - `jointPositions` (vec3 array): world positions.
 //! - `jointParents` (int array): parent index, `-1` for roots.
+//! - `jointNames` (string): the joint names joined by commas (names never contain one).
 //! - `jointOrients` (vec3 array, degrees, `xyz`): Maya's `jointOrient` convention — the
 //!   joint's world orientation expressed relative to its parent joint's world orientation
 //!   (for a root: the world orientation), so a joint with `rotate = 0` and this
 //!   `jointOrient` under its parent has the skeleton's orientation. The orientation itself
-//!   follows [`super::Skeleton`]: +X aims at the main child, +Z is the silhouette's view
-//!   axis made perpendicular to +X, +Y = Z × X; leaves copy their parent.
+//!   follows [`super::Skeleton`]: +X aims at the main child, +Z is the mesh's axis of least
+//!   extent made perpendicular to +X, +Y = Z × X; leaves copy their parent; right joints of
+//!   mirror pairs are their left joints turned 180° about the mirror normal.
 //! - `jointCount` (int).
 //! - `outTranslate[i]` (vec3): joint `i`'s translate relative to its parent joint, in the
 //!   parent's oriented frame (the world position for a root): connect it to `joint.translate`.
@@ -42,10 +54,10 @@
 //! and is computed once; the joint outputs read it; `weights` reads it with `inMesh`,
 //! `maxInfluences` and `computeWeights`. Nothing is time dependent.
 //!
-//! Errors: the algorithm's errors (empty, invalid or degenerate mesh; a silhouette without
-//! interior) become a `ComputeError` carrying its message; a non-finite or negative
-//! `pruneFactor`, a non-finite `angleLimit` or a non-finite `rootHint` in use is a
-//! `ComputeError` naming the attribute.
+//! Errors: the algorithm's errors (empty, invalid or degenerate mesh; nothing inside; a
+//! template that does not fit) become a `ComputeError` carrying its message; a negative
+//! `pruneFactor`, `thinning` or `symmetryTolerance` is a `ComputeError` naming the
+//! attribute (the graph already refuses non-finite values).
 
 use std::sync::Arc;
 
@@ -55,7 +67,8 @@ use sinew_core::{
     Weights,
 };
 
-use super::{bone_heat_weights, skeletonize, Skeleton, SkeletonizeParams, WeightParams};
+use super::template::Template;
+use super::{bone_heat_weights, skeletonize, Method, Skeleton, SkeletonizeParams, WeightParams};
 use crate::transform::math::{quat_to_euler, RotateOrder};
 
 /// Largest `bonesPerBranch` accepted; larger values are lowered to it.
@@ -116,18 +129,26 @@ pub fn local_placement(sk: &Skeleton) -> (Vec<DVec3>, Vec<DVec3>) {
 pub struct SkeletonizeNode {
     spec: NodeSpec,
     in_mesh: Input<Arc<Mesh>>,
+    method: Input<i64>,
     resolution: Input<i64>,
+    silhouette_resolution: Input<i64>,
+    joints_per_limb: Input<i64>,
     prune_factor: Input<f64>,
     angle_limit: Input<f64>,
+    thinning: Input<f64>,
     bones_per_branch: Input<i64>,
+    symmetry: Input<bool>,
+    symmetry_tolerance: Input<f64>,
+    join_parts: Input<bool>,
     root_hint: Input<DVec3>,
     use_root_hint: Input<bool>,
-    all_parts: Input<bool>,
+    template: Input<i64>,
     max_influences: Input<i64>,
     compute_weights: Input<bool>,
     cache: Output<ObjectRef>,
     positions: Output<Arc<Vec<DVec3>>>,
     parents: Output<Arc<Vec<i64>>>,
+    names: Output<Arc<str>>,
     orients: Output<Arc<Vec<DVec3>>>,
     count: Output<i64>,
     out_translate: MultiOutput<DVec3>,
@@ -140,20 +161,28 @@ impl SkeletonizeNode {
     pub fn new() -> Result<Self, SpecError> {
         let d = SkeletonizeParams::default();
         let mut s = NodeSpec::builder("skeletonize");
-        s.doc("a joint hierarchy (chordal axis of the silhouette) and bone-heat skin weights from a mesh");
+        s.doc("a joint hierarchy (level-set curve skeleton of the solid, or the chordal axis of a flat silhouette) and bone-heat skin weights from a mesh");
         let in_mesh = s.input("inMesh", Arc::new(Mesh::default()));
+        let method = s.input_enum("method", &["auto", "volume", "silhouette"], 0);
         let resolution = s.input("resolution", d.resolution as i64);
+        let silhouette_resolution = s.input("silhouetteResolution", d.silhouette_resolution as i64);
+        let joints_per_limb = s.input("jointsPerLimb", d.joints_per_limb as i64);
         let prune_factor = s.input("pruneFactor", d.prune_factor);
         let angle_limit = s.input("angleLimit", d.angle_limit_degrees);
+        let thinning = s.input("thinning", d.thinning);
         let bones_per_branch = s.input("bonesPerBranch", 0i64);
+        let symmetry = s.input("symmetry", d.symmetry);
+        let symmetry_tolerance = s.input("symmetryTolerance", d.symmetry_tolerance);
+        let join_parts = s.input("joinParts", d.join_parts);
         let root_hint = s.input("rootHint", DVec3::ZERO);
         let use_root_hint = s.input("useRootHint", false);
-        let all_parts = s.input("allParts", false);
+        let template = s.input_enum("template", &["none", "humanoid", "quadruped"], 0);
         let max_influences = s.input("maxInfluences", WeightParams::default().max_influences as i64);
         let compute_weights = s.input("computeWeights", true);
         let cache = s.output("skeletonCache", ObjectRef::default());
         let positions = s.output("jointPositions", Arc::new(Vec::<DVec3>::new()));
         let parents = s.output("jointParents", Arc::new(Vec::<i64>::new()));
+        let names = s.output("jointNames", Arc::<str>::from(""));
         let orients = s.output("jointOrients", Arc::new(Vec::<DVec3>::new()));
         let count = s.output("jointCount", 0i64);
         let out_translate = s.multi_output("outTranslate", DVec3::ZERO);
@@ -165,26 +194,40 @@ impl SkeletonizeNode {
             .unit(out_joint_orient, Unit::Degrees);
         s.attr_doc(in_mesh, "the mesh to skeletonize (world space)")
             .attr_doc(
-                resolution,
-                "silhouette raster size in pixels along its longer side (8..=4096)",
+                method,
+                "auto (volume, or silhouette for a flat mesh), volume or silhouette",
             )
+            .attr_doc(resolution, "volume cells along the mesh's longest side")
+            .attr_doc(silhouette_resolution, "silhouette raster size in pixels (8..=4096)")
+            .attr_doc(joints_per_limb, "bones per limb at least, base to tip")
             .attr_doc(
                 prune_factor,
-                "prune terminal branches shorter than this × the local radius",
+                "prune branches sticking out less than this × the local radius",
             )
-            .attr_doc(angle_limit, "place a joint where a branch turns by more than this")
+            .attr_doc(angle_limit, "a limb bend sharper than this is an articulation")
+            .attr_doc(
+                thinning,
+                "a radius this fraction below its neighbours' is an articulation",
+            )
             .attr_doc(
                 bones_per_branch,
-                "bones per branch, spaced by arc length (0 = joints at turns)",
+                "bones per branch, spaced by arc length (0 = joints at articulations)",
+            )
+            .attr_doc(symmetry, "detect a mirror plane and make the skeleton symmetric")
+            .attr_doc(symmetry_tolerance, "largest volume fraction without a mirror image")
+            .attr_doc(
+                join_parts,
+                "join separate parts to the nearest part (off: one root each)",
             )
             .attr_doc(root_hint, "root near this position (with useRootHint)")
-            .attr_doc(use_root_hint, "use rootHint instead of the automatic root")
-            .attr_doc(all_parts, "skeletonize every silhouette part, not only the largest")
+            .attr_doc(use_root_hint, "use rootHint instead of the torso's centre of mass")
+            .attr_doc(template, "fit a named skeleton: none, humanoid or quadruped")
             .attr_doc(max_influences, "joints per vertex in weights (0 = unlimited)")
             .attr_doc(compute_weights, "compute bone-heat weights (off: weights is empty)")
             .attr_doc(cache, "the precomputed skeleton (SkeletonData)")
             .attr_doc(positions, "joint world positions, parent-first")
             .attr_doc(parents, "parent joint index, -1 for roots")
+            .attr_doc(names, "joint names, joined by commas")
             .attr_doc(orients, "jointOrient per joint (xyz degrees, relative to the parent)")
             .attr_doc(count, "number of joints")
             .attr_doc(out_translate, "joint translate relative to its parent joint")
@@ -193,13 +236,20 @@ impl SkeletonizeNode {
         s.affects(
             &[
                 in_mesh.id(),
+                method.id(),
                 resolution.id(),
+                silhouette_resolution.id(),
+                joints_per_limb.id(),
                 prune_factor.id(),
                 angle_limit.id(),
+                thinning.id(),
                 bones_per_branch.id(),
+                symmetry.id(),
+                symmetry_tolerance.id(),
+                join_parts.id(),
                 root_hint.id(),
                 use_root_hint.id(),
-                all_parts.id(),
+                template.id(),
             ],
             &[cache.id()],
         );
@@ -208,6 +258,7 @@ impl SkeletonizeNode {
             &[
                 positions.id(),
                 parents.id(),
+                names.id(),
                 orients.id(),
                 count.id(),
                 out_translate.id(),
@@ -221,18 +272,26 @@ impl SkeletonizeNode {
         Ok(SkeletonizeNode {
             spec: s.build()?,
             in_mesh,
+            method,
             resolution,
+            silhouette_resolution,
+            joints_per_limb,
             prune_factor,
             angle_limit,
+            thinning,
             bones_per_branch,
+            symmetry,
+            symmetry_tolerance,
+            join_parts,
             root_hint,
             use_root_hint,
-            all_parts,
+            template,
             max_influences,
             compute_weights,
             cache,
             positions,
             parents,
+            names,
             orients,
             count,
             out_translate,
@@ -242,12 +301,18 @@ impl SkeletonizeNode {
     }
 
     fn params(&self, ctx: &ComputeContext<'_>) -> Result<SkeletonizeParams, ComputeError> {
-        let prune = ctx.get(self.prune_factor);
-        if !prune.is_finite() || prune < 0.0 {
-            return Err(ComputeError::new(format!(
-                "skeletonize.pruneFactor is {prune}; give a finite value >= 0"
-            )));
-        }
+        let non_negative = |value: f64, name: &str| {
+            if value.is_finite() && value >= 0.0 {
+                Ok(value)
+            } else {
+                Err(ComputeError::new(format!(
+                    "skeletonize.{name} is {value}; give a finite value >= 0"
+                )))
+            }
+        };
+        let prune = non_negative(ctx.get(self.prune_factor), "pruneFactor")?;
+        let thinning = non_negative(ctx.get(self.thinning), "thinning")?;
+        let tolerance = non_negative(ctx.get(self.symmetry_tolerance), "symmetryTolerance")?;
         let angle = ctx.get(self.angle_limit);
         if !angle.is_finite() {
             return Err(ComputeError::new(format!(
@@ -266,13 +331,30 @@ impl SkeletonizeNode {
             None
         };
         let bones = ctx.get(self.bones_per_branch).clamp(0, MAX_BONES_PER_BRANCH);
+        let method = match ctx.get(self.method) {
+            1 => Method::Volume,
+            2 => Method::Silhouette,
+            _ => Method::Auto,
+        };
+        let template = match ctx.get(self.template) {
+            1 => Some(Template::Humanoid),
+            2 => Some(Template::Quadruped),
+            _ => None,
+        };
         Ok(SkeletonizeParams {
-            resolution: ctx.get(self.resolution).clamp(8, 4096) as usize,
+            method,
+            resolution: ctx.get(self.resolution).clamp(8, 1024) as usize,
+            silhouette_resolution: ctx.get(self.silhouette_resolution).clamp(8, 4096) as usize,
+            joints_per_limb: ctx.get(self.joints_per_limb).clamp(1, MAX_BONES_PER_BRANCH) as usize,
             prune_factor: prune,
             angle_limit_degrees: angle,
+            thinning,
             bones_per_branch: (bones > 0).then_some(bones as usize),
+            symmetry: ctx.get(self.symmetry),
+            symmetry_tolerance: tolerance,
+            join_parts: ctx.get(self.join_parts),
             root_hint,
-            all_parts: ctx.get(self.all_parts),
+            template,
             ..SkeletonizeParams::default()
         })
     }
@@ -307,6 +389,7 @@ impl SkeletonizeNode {
             self.parents,
             Arc::new(sk.parents.iter().map(|p| p.map_or(-1, |k| k as i64)).collect()),
         );
+        ctx.set(self.names, Arc::<str>::from(sk.names.join(",")));
         ctx.set(self.orients, Arc::new(d.joint_orients.clone()));
         ctx.set(self.count, sk.len() as i64);
         for (h, src) in [

@@ -217,13 +217,20 @@ fn local_outputs_rebuild_the_world_skeleton() {
         );
         assert!(wm.abs_diff_eq(world[j], 1e-9), "joint {j} world rotation");
     }
-    // Orientation convention: a joint with one child aims +X at it.
+    // Orientation convention: a joint with one child aims +X at it; a right joint of a
+    // mirror pair (behaviour mirroring, as Maya's Mirror Joint) aims -X at it.
+    let names = match g.get_path("sk.jointNames").unwrap() {
+        Value::String(s) => s.split(',').map(str::to_string).collect::<Vec<_>>(),
+        other => panic!("{other}"),
+    };
+    assert_eq!(names.len(), pos.len());
     for j in 0..pos.len() {
         let kids: Vec<usize> = (0..pos.len()).filter(|&c| par[c] == j as i64).collect();
         if kids.len() == 1 && pos[kids[0]].distance(pos[j]) > 1e-6 {
             let x = world[j].x_axis.truncate();
             let d = (pos[kids[0]] - pos[j]).normalize();
-            assert!(x.dot(d) > 0.999, "joint {j}: +X {x} does not aim at its child {d}");
+            let sign = if names[j].ends_with("_R") { -1.0 } else { 1.0 };
+            assert!(sign * x.dot(d) > 0.999, "joint {} : +X {x} vs its child {d}", names[j]);
         }
     }
 }
