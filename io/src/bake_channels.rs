@@ -37,9 +37,9 @@ pub(crate) fn animation(
             rs.push(q.to_array());
         }
         let rest_node = &scene.nodes[i];
-        let rest_t = [rest_node.translation.to_array()];
-        let rest_s = [rest_node.scale.to_array()];
-        let rest_r = rest_node.rotation;
+        let rest_t = [rest_node.translation.as_vec3().to_array()];
+        let rest_s = [rest_node.scale.as_vec3().to_array()];
+        let rest_r = rest_node.rotation.as_quat();
         push_channel(
             &mut anim,
             i,
