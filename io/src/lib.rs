@@ -3,6 +3,8 @@
 //! importer and baker map these structs to and from graph nodes.
 
 pub mod bake;
+mod bake_channels;
+mod bake_geometry;
 pub mod bake_morphs;
 pub mod bvh;
 mod gltf_binary;

@@ -429,6 +429,8 @@ impl DeformerAttrs {
             .attr_doc(membership, "vertex indices deformed (empty = all)")
             .attr_doc(output, "the deformed mesh")
             .attr_doc(cache, "active vertices and weights (Membership)");
+        // Maya's short names (node reference, geometryFilter).
+        s.short_name(input, "ig").short_name(envelope, "en");
         s.keyable(weight_list, false).keyable(membership, false);
         s.affects(&[weight_list.id(), membership.id()], &[cache.id()]);
         DeformerAttrs {

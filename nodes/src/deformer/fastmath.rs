@@ -14,14 +14,15 @@ const ROUND: f32 = 12_582_912.0; // 1.5 · 2^23: adding and subtracting it round
 /// `(sin x, cos x)`.
 #[inline(always)]
 pub fn sin_cos(x: f32) -> (f32, f32) {
-    let k = (x * FRAC_2_PI + ROUND) - ROUND;
+    let kr = x * FRAC_2_PI + ROUND;
+    let k = kr - ROUND;
     let r = ((x - k * PIO2_A) - k * PIO2_B) - k * PIO2_C;
     let r2 = r * r;
     let s = r + r * r2 * (-1.0 / 6.0 + r2 * (1.0 / 120.0 + r2 * (-1.0 / 5040.0 + r2 * (1.0 / 362_880.0))));
     let c = 1.0 + r2 * (-0.5 + r2 * (1.0 / 24.0 + r2 * (-1.0 / 720.0 + r2 * (1.0 / 40_320.0))));
-    // Quadrant k mod 4 from k's low bits (k is an integer-valued float; the conversion
-    // saturates, never traps).
-    let q = (k as i32) as u32;
+    // Quadrant k mod 4: `kr = k + 1.5·2²³` holds k in its low mantissa bits (exact for
+    // |k| < 2²²; a plain bit cast, which vectorizes where a float-to-int conversion would not).
+    let q = kr.to_bits();
     let (s, c) = if q & 1 != 0 { (c, -s) } else { (s, c) };
     if q & 2 != 0 {
         (-s, -c)

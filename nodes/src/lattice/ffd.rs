@@ -47,11 +47,11 @@ impl Lattice {
     }
 }
 
-/// Bernstein basis of one axis at `x`: the window's first control point index and the
-/// weights of its `len` points, written into `b`.
+/// The window of one axis at parameter `x`: its first control point, the degree of its
+/// polynomial and the parameter within it (the whole axis without local mode).
 #[inline(always)]
-fn basis(x: f32, n: usize, local: Option<usize>, b: &mut [f32; MAX_DIVISIONS]) -> (usize, usize) {
-    let (start, deg, v) = match local {
+fn window(x: f32, n: usize, local: Option<usize>) -> (usize, usize, f32) {
+    match local {
         Some(li) if li < n - 1 => {
             let cells = (n - 1) as f32;
             let cell = ((x * cells).floor().max(0.0) as usize).min(n - 2);
@@ -60,7 +60,14 @@ fn basis(x: f32, n: usize, local: Option<usize>, b: &mut [f32; MAX_DIVISIONS]) -
             (start, deg, (x * cells - start as f32) / deg as f32)
         }
         _ => (0, n - 1, x),
-    };
+    }
+}
+
+/// Bernstein basis of one axis at `x`: the window's first control point index and the
+/// weights of its `len` points, written into `b`.
+#[inline(always)]
+fn basis(x: f32, n: usize, local: Option<usize>, b: &mut [f32; MAX_DIVISIONS]) -> (usize, usize) {
+    let (start, deg, v) = window(x, n, local);
     // Bᵢ(v) = C(deg, i) vⁱ (1 − v)^(deg − i), by the recurrence on the binomials.
     let w = 1.0 - v;
     let mut pw = [1.0f32; MAX_DIVISIONS];
@@ -109,11 +116,10 @@ pub const MAX_LANE_DIVISIONS: usize = 8;
 
 type LaneBasis = [[f32; LANES]; MAX_LANE_DIVISIONS];
 
-/// Bernstein basis of degree `n − 1` at [`LANES`] parameters (`b[i][lane]`), by the same
+/// Bernstein basis of degree `deg` at [`LANES`] parameters (`b[i][lane]`), by the same
 /// operations as the single-point basis.
 #[inline(always)]
-fn basis_lanes(x: &[f32; LANES], n: usize, b: &mut LaneBasis) {
-    let deg = n - 1;
+fn basis_lanes(x: &[f32; LANES], deg: usize, b: &mut LaneBasis) {
     let mut w = [0.0f32; LANES];
     for l in 0..LANES {
         w[l] = 1.0 - x[l];
@@ -135,28 +141,42 @@ fn basis_lanes(x: &[f32; LANES], n: usize, b: &mut LaneBasis) {
     }
 }
 
-/// [`evaluate`] without local mode for [`LANES`] points at once (`stu` as one array per
-/// axis, overwritten with the result): the same sums, control point by control point with
-/// the points innermost, so they vectorize. Every division must be at most
-/// [`MAX_LANE_DIVISIONS`].
+/// [`evaluate`] for [`LANES`] points at once (`stu` as one array per axis, overwritten with
+/// the result): the same sums in the same order, control point by control point with the
+/// points innermost, so they vectorize and give the single-point path's bits. In local mode
+/// the points must share their window on every axis; returns false (and leaves `stu` alone)
+/// when they do not. Every division must be at most [`MAX_LANE_DIVISIONS`].
 #[inline(always)]
-pub fn evaluate_lanes(l: &Lattice, stu: &mut [[f32; LANES]; 3]) {
-    let [ns, nt, nu] = l.divisions;
-    let mut bs = [[0.0f32; LANES]; MAX_LANE_DIVISIONS];
-    let mut bt = [[0.0f32; LANES]; MAX_LANE_DIVISIONS];
-    let mut bu = [[0.0f32; LANES]; MAX_LANE_DIVISIONS];
-    basis_lanes(&stu[0], ns, &mut bs);
-    basis_lanes(&stu[1], nt, &mut bt);
-    basis_lanes(&stu[2], nu, &mut bu);
+pub fn evaluate_lanes(l: &Lattice, stu: &mut [[f32; LANES]; 3], local: Option<[usize; 3]>) -> bool {
+    let [ns, nt, _] = l.divisions;
+    let mut bases = [[[0.0f32; LANES]; MAX_LANE_DIVISIONS]; 3];
+    let (mut start, mut len) = ([0usize; 3], [0usize; 3]);
+    for a in 0..3 {
+        let (n, li) = (l.divisions[a], local.map(|l| l[a]));
+        let mut v = stu[a];
+        let (s0, deg, _) = window(stu[a][0], n, li);
+        if li.is_some_and(|li| li < n - 1) {
+            for q in 0..LANES {
+                let (s, _, vq) = window(stu[a][q], n, li);
+                if s != s0 {
+                    return false;
+                }
+                v[q] = vq;
+            }
+        }
+        basis_lanes(&v, deg, &mut bases[a]);
+        (start[a], len[a]) = (s0, deg + 1);
+    }
+    let [bs, bt, bu] = &bases;
     let mut acc = [[0.0f32; LANES]; 3];
-    for (k, wu) in bu[..nu].iter().enumerate() {
-        for (j, wt) in bt[..nt].iter().enumerate() {
+    for (k, wu) in bu[..len[2]].iter().enumerate() {
+        for (j, wt) in bt[..len[1]].iter().enumerate() {
             let mut wtu = [0.0f32; LANES];
             for q in 0..LANES {
                 wtu[q] = wt[q] * wu[q];
             }
-            let row = ns * (j + nt * k);
-            for (ws, p) in bs[..ns].iter().zip(&l.points[row..row + ns]) {
+            let row = ns * (start[1] + j + nt * (start[2] + k)) + start[0];
+            for (ws, p) in bs[..len[0]].iter().zip(&l.points[row..row + len[0]]) {
                 for q in 0..LANES {
                     let w = ws[q] * wtu[q];
                     acc[0][q] += w * p.x;
@@ -167,6 +187,7 @@ pub fn evaluate_lanes(l: &Lattice, stu: &mut [[f32; LANES]; 3]) {
         }
     }
     *stu = acc;
+    true
 }
 
 #[cfg(test)]
@@ -207,11 +228,27 @@ mod tests {
         for (i, p) in pts.iter().enumerate() {
             (b[0][i], b[1][i], b[2][i]) = (p.x, p.y, p.z);
         }
-        evaluate_lanes(&l, &mut b);
+        let b0 = b;
+        assert!(evaluate_lanes(&l, &mut b, None));
         for (i, p) in pts.iter().enumerate() {
-            let one = evaluate(&l, *p, None);
-            assert!((one - Vec3::new(b[0][i], b[1][i], b[2][i])).length() < 1e-6);
+            // The same bits as the single-point path.
+            assert_eq!(evaluate(&l, *p, None), Vec3::new(b[0][i], b[1][i], b[2][i]));
         }
+        // Local mode: points sharing their windows give the single-point bits; points in
+        // different windows are refused.
+        let local = Some([2, 2, 2]);
+        let mut b = [[0.1; LANES], [0.2; LANES], [0.7; LANES]];
+        for (q, t) in b[1].iter_mut().enumerate() {
+            *t = 0.05 + 0.05 * q as f32;
+        }
+        let pts: Vec<Vec3> = (0..LANES).map(|q| Vec3::new(b[0][q], b[1][q], b[2][q])).collect();
+        assert!(evaluate_lanes(&l, &mut b, local));
+        for (i, p) in pts.iter().enumerate() {
+            assert_eq!(evaluate(&l, *p, local), Vec3::new(b[0][i], b[1][i], b[2][i]));
+        }
+        let mut b = b0;
+        assert!(!evaluate_lanes(&l, &mut b, local));
+        assert_eq!(b, b0);
     }
 
     #[test]

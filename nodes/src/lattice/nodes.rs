@@ -29,8 +29,8 @@ use sinew_core::{
 
 use super::ffd::{evaluate, evaluate_lanes, Lattice, MAX_DIVISIONS, MAX_LANE_DIVISIONS};
 use crate::deformer::base::{
-    deform_blocks, deform_points, finite, finite_matrix, inverse, Affine, Block, BlockMap, Deformer, DeformerAttrs,
-    Job, PointMap, LANES,
+    deform_blocks, deform_map, deform_points, finite, finite_matrix, inverse, Affine, Block, BlockMap, Deformer,
+    DeformerAttrs, Job, PointMap, LANES,
 };
 
 /// `outsideLattice` choices, by index.
@@ -56,6 +56,11 @@ impl LatticeShape {
         ];
         let points = s.input("controlPoints", Arc::new(Vec::<glam::DVec3>::new()));
         let output = s.output("latticeOutput", ObjectRef::default());
+        // Maya's short names (node reference, lattice).
+        for (id, short) in divisions.iter().map(|d| d.id()).zip(["sd", "td", "ud"]) {
+            s.short_name(id, short);
+        }
+        s.short_name(output, "lo");
         s.attr_doc(
             points,
             "control points in lattice space, s fastest (empty = undisturbed)",
@@ -118,11 +123,15 @@ impl NodeType for LatticeShape {
     }
 }
 
-/// The global-mode ffd kernel, inside mode, per block and per point (the same operations).
+/// The ffd kernel of the `inside` and `all` modes, per block and per point (the same
+/// operations, so both paths give the same bits).
 struct FfdBlock<'a> {
     lattice: &'a Lattice,
     to: Affine,
     back: Affine,
+    local: Option<[usize; 3]>,
+    /// `all`: vertices outside the base lattice move too (the polynomial extended).
+    all: bool,
 }
 
 #[inline(always)]
@@ -137,10 +146,18 @@ impl BlockMap for FfdBlock<'_> {
         let mut keep = [false; LANES];
         for q in 0..LANES {
             let s = self.to.apply(Vec3::new(b[0][q], b[1][q], b[2][q])) + 0.5;
-            keep[q] = !inside(s);
+            keep[q] = !self.all && !inside(s);
             (stu[0][q], stu[1][q], stu[2][q]) = (s.x, s.y, s.z);
         }
-        evaluate_lanes(self.lattice, &mut stu);
+        if !evaluate_lanes(self.lattice, &mut stu, self.local) {
+            // Local mode with the block across windows: point by point.
+            #[allow(clippy::needless_range_loop)] // one lane of each of the three arrays
+            for q in 0..LANES {
+                let o = self.map(0, Vec3::new(b[0][q], b[1][q], b[2][q]));
+                (b[0][q], b[1][q], b[2][q]) = (o.x, o.y, o.z);
+            }
+            return;
+        }
         for q in 0..LANES {
             let o = self.back.apply(Vec3::new(stu[0][q], stu[1][q], stu[2][q]));
             let o = if keep[q] {
@@ -157,8 +174,8 @@ impl PointMap for FfdBlock<'_> {
     #[inline(always)]
     fn map(&self, _: usize, p: Vec3) -> Vec3 {
         let stu = self.to.apply(p) + 0.5;
-        if inside(stu) {
-            self.back.apply(evaluate(self.lattice, stu, None))
+        if self.all || inside(stu) {
+            self.back.apply(evaluate(self.lattice, stu, self.local))
         } else {
             p
         }
@@ -282,45 +299,35 @@ impl Deformer for Ffd {
         };
         let (to, back, local) = (Affine::new(f.to), Affine::new(f.back), f.local);
         let (pos, out, m, env) = (&job.input.positions, job.out, job.membership, job.envelope);
-        match f.outside {
-            1 => deform_points(pos, out, m, env, |_, p| {
-                back.apply(evaluate(lattice, to.apply(p) + 0.5, local))
-            }),
-            2 => {
-                let d = f.falloff;
-                deform_points(pos, out, m, env, |_, p| {
-                    let stu = to.apply(p) + 0.5;
-                    if inside(stu) {
-                        return back.apply(evaluate(lattice, stu, local));
-                    }
-                    let c = stu.clamp(Vec3::ZERO, Vec3::ONE);
-                    let dist = stu.distance(c);
-                    if dist >= d {
-                        return p;
-                    }
-                    let moved = back.apply(stu - 0.5 + (evaluate(lattice, c, local) - (c - 0.5)));
-                    p + (moved - p) * (1.0 - dist / d)
-                })
-            }
-            _ => {
-                let single = |_, p: Vec3| {
-                    let stu = to.apply(p) + 0.5;
-                    if inside(stu) {
-                        back.apply(evaluate(lattice, stu, local))
-                    } else {
-                        p
-                    }
-                };
-                if local.is_some() || lattice.divisions.iter().any(|&d| d > MAX_LANE_DIVISIONS) {
-                    return {
-                        deform_points(pos, out, m, env, single);
-                        Ok(())
-                    };
+        if f.outside == 2 {
+            let d = f.falloff;
+            deform_points(pos, out, m, env, |_, p| {
+                let stu = to.apply(p) + 0.5;
+                if inside(stu) {
+                    return back.apply(evaluate(lattice, stu, local));
                 }
-                // Global mode, every vertex active: blocks of LANES vertices.
-                let block = FfdBlock { lattice, to, back };
-                deform_blocks(pos, out, m, env, &block, &block);
-            }
+                let c = stu.clamp(Vec3::ZERO, Vec3::ONE);
+                let dist = stu.distance(c);
+                if dist >= d {
+                    return p;
+                }
+                let moved = back.apply(stu - 0.5 + (evaluate(lattice, c, local) - (c - 0.5)));
+                p + (moved - p) * (1.0 - dist / d)
+            });
+            return Ok(());
+        }
+        let block = FfdBlock {
+            lattice,
+            to,
+            back,
+            local,
+            all: f.outside == 1,
+        };
+        if lattice.divisions.iter().any(|&d| d > MAX_LANE_DIVISIONS) {
+            deform_map(pos, out, m, env, &block);
+        } else {
+            // Every vertex active: blocks of LANES vertices.
+            deform_blocks(pos, out, m, env, &block, &block);
         }
         Ok(())
     }

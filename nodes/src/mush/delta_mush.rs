@@ -28,7 +28,7 @@ use glam::{Vec3, Vec3A};
 use sinew_core::{AttrId, ComputeContext, ComputeError, Input, Mesh, ObjectRef, Output, SpecBuilder};
 
 use super::smooth::Smoother;
-use crate::deformer::base::{deform_points, finite, smooth_normals_into, Deformer, DeformerAttrs, Job};
+use crate::deformer::base::{deform_map, finite, smooth_normals_into, Deformer, DeformerAttrs, Job, PointMap};
 
 const NONE: u32 = u32::MAX;
 
@@ -50,23 +50,60 @@ pub struct MushBind {
     /// Offsets in frame coordinates (object space where there is no frame).
     pub local: Vec<Vec3>,
     /// `F_S(R) · d`, computed as every frame computes `F_S(D) · d`.
-    pub rest_offset: Vec<Vec3>,
+    pub rest_offset: Vec<Vec3A>,
+}
+
+/// `e / |e|`, or zero for a zero (or non-finite) `e`; a select rather than a branch.
+#[inline(always)]
+fn unit_or_zero(e: Vec3A) -> Vec3A {
+    let r = 1.0 / e.dot(e).sqrt();
+    e * if r.is_finite() { r } else { 0.0 }
 }
 
 /// `F · d` for vertex `v` on smoothed positions `s`.
 #[inline(always)]
-fn frame_apply(s: &[Vec3A], v: usize, f: [u32; 2], d: Vec3) -> Vec3 {
+fn frame_apply(s: &[Vec3A], v: usize, f: [u32; 2], d: Vec3) -> Vec3A {
     if f[0] == NONE {
-        return d;
+        return d.into();
     }
-    let s = |i: usize| Vec3::from(s[i]);
-    let p = s(v);
-    let e1 = s(f[0] as usize) - p;
-    let e2 = s(f[1] as usize) - p;
-    let n = e1.cross(e2).normalize_or_zero();
-    let t = e1.normalize_or_zero();
+    let p = s[v];
+    let e1 = s[f[0] as usize] - p;
+    let e2 = s[f[1] as usize] - p;
+    let n = unit_or_zero(e1.cross(e2));
+    let t = unit_or_zero(e1);
     let b = n.cross(t);
     t * d.x + b * d.y + n * d.z
+}
+
+/// The per-vertex second half of delta mush (see the module docs), inlined into the vertex
+/// loop.
+struct MushMap<'a> {
+    bind: &'a MushBind,
+    smooth: &'a [Vec3A],
+    normals: &'a [Vec3],
+    displacement: f32,
+    inward: f32,
+    outward: f32,
+    constrain: bool,
+}
+
+impl PointMap for MushMap<'_> {
+    #[inline(always)]
+    fn map(&self, v: usize, p: Vec3) -> Vec3 {
+        let b = self.bind;
+        let offset = frame_apply(self.smooth, v, b.frame[v], b.local[v]) * self.displacement - b.rest_offset[v];
+        // Components where nothing changed keep the rest bits (−0.0 stays −0.0).
+        let change = Vec3::from(self.smooth[v] - b.smooth_rest[v] + offset);
+        let r = b.rest[v];
+        let out = Vec3::select(change.cmpeq(Vec3::ZERO), r, r + change);
+        if !self.constrain {
+            return out;
+        }
+        let n = self.normals[v];
+        let d = out - p;
+        let dn = d.dot(n);
+        p + d - n * (dn * if dn < 0.0 { self.inward } else { self.outward })
+    }
 }
 
 impl MushBind {
@@ -239,21 +276,16 @@ impl Deformer for DeltaMush {
             if constrain {
                 smooth_normals_into(pos, &job.input.triangles, &mut s.normals);
             }
-            let (sm, normals) = (&s.smooth, &s.normals);
-            deform_points(pos, job.out, job.membership, job.envelope, |v, p| {
-                let offset = frame_apply(sm, v, b.frame[v], b.local[v]) * disp - b.rest_offset[v];
-                // Components where nothing changed keep the rest bits (−0.0 stays −0.0).
-                let change = Vec3::from(sm[v] - b.smooth_rest[v]) + offset;
-                let r = b.rest[v];
-                let out = Vec3::select(change.cmpeq(Vec3::ZERO), r, r + change);
-                if !constrain {
-                    return out;
-                }
-                let n = normals[v];
-                let d = out - p;
-                let dn = d.dot(n);
-                p + d - n * (dn * if dn < 0.0 { inward } else { outward })
-            });
+            let map = MushMap {
+                bind: b,
+                smooth: &s.smooth,
+                normals: &s.normals,
+                displacement: disp,
+                inward,
+                outward,
+                constrain,
+            };
+            deform_map(pos, job.out, job.membership, job.envelope, &map);
         });
         Ok(())
     }

@@ -17,7 +17,7 @@ use sinew_core::{
     SpecError, Unit,
 };
 
-use super::funcs::{bend, flare, sine, squash, twist, wave, Func};
+use super::funcs::{BendFn, FlareFn, Func, PointFn, SineFn, SquashFn, TwistFn, WaveFn};
 use crate::deformer::base::{
     deform_map, finite, finite_matrix, handle_space, Affine, Deformer, DeformerAttrs, Job, PointMap,
 };
@@ -94,10 +94,15 @@ pub const PARAMS: [(&str, &[Param]); 6] = [
 ];
 
 /// Maya's short names of the handle shapes' attributes, as Maya's node reference lists them
-/// (`deformTwist`'s page was not at hand: its attributes have long names only).
+/// (`deformSquash`'s `factor` has none here: its short name was not in the reference at hand).
 pub const SHORT_NAMES: [&[(&str, &str)]; 6] = [
     &[("lowBound", "lb"), ("highBound", "hb"), ("curvature", "cur")],
-    &[],
+    &[
+        ("lowBound", "lb"),
+        ("highBound", "hb"),
+        ("startAngle", "sa"),
+        ("endAngle", "ea"),
+    ],
     &[
         ("lowBound", "lb"),
         ("highBound", "hb"),
@@ -319,8 +324,8 @@ impl Deformer for NonLinear {
             };
         }
         match func {
-            Func::Bend { k, lb, hb } => run!(BendMap { k, lb, hb }),
-            Func::Twist { lb, hb, a0, a1 } => run!(TwistMap { lb, hb, a0, a1 }),
+            Func::Bend { k, lb, hb } => run!(BendFn::new(k, lb, hb)),
+            Func::Twist { lb, hb, a0, a1 } => run!(TwistFn::new(lb, hb, a0, a1)),
             Func::Squash {
                 lb,
                 hb,
@@ -329,28 +334,14 @@ impl Deformer for NonLinear {
                 m,
                 ss,
                 es,
-            } => run!(SquashMap {
-                lb,
-                hb,
-                f,
-                expand,
-                m,
-                ss,
-                es
-            }),
+            } => run!(SquashFn::new(lb, hb, f, expand, m, ss, es)),
             Func::Flare {
                 lb,
                 hb,
                 start,
                 end,
                 curve,
-            } => run!(FlareMap {
-                lb,
-                hb,
-                start,
-                end,
-                curve
-            }),
+            } => run!(FlareFn::new(lb, hb, start, end, curve)),
             Func::Sine {
                 lb,
                 hb,
@@ -358,14 +349,7 @@ impl Deformer for NonLinear {
                 wavelength,
                 offset,
                 dropoff,
-            } => run!(SineMap {
-                lb,
-                hb,
-                amplitude,
-                w: tau / wavelength,
-                offset,
-                dropoff
-            }),
+            } => run!(SineFn::new(lb, hb, amplitude, tau / wavelength, offset, dropoff)),
             Func::Wave {
                 r0,
                 r1,
@@ -373,14 +357,7 @@ impl Deformer for NonLinear {
                 wavelength,
                 offset,
                 dropoff,
-            } => run!(WaveMap {
-                r0,
-                r1,
-                amplitude,
-                w: tau / wavelength,
-                offset,
-                dropoff
-            }),
+            } => run!(WaveFn::new(r0, r1, amplitude, tau / wavelength, offset, dropoff)),
         }
         Ok(())
     }
@@ -393,49 +370,12 @@ struct InHandle<F> {
     f: F,
 }
 
-/// A function of handle-space points.
-trait HandleFn {
-    fn apply(&self, p: Vec3) -> Vec3;
-}
-
-impl<F: HandleFn> PointMap for InHandle<F> {
+impl<F: PointFn> PointMap for InHandle<F> {
     #[inline(always)]
     fn map(&self, _: usize, p: Vec3) -> Vec3 {
         self.back.apply(self.f.apply(self.to.apply(p)))
     }
 }
-
-macro_rules! handle_fn {
-    ($name:ident { $($field:ident: $ty:ty),* } => |$p:ident| $body:expr) => {
-        struct $name {
-            $($field: $ty),*
-        }
-        impl HandleFn for $name {
-            #[inline(always)]
-            fn apply(&self, $p: Vec3) -> Vec3 {
-                let $name { $($field),* } = *self;
-                $body
-            }
-        }
-        impl Clone for $name {
-            fn clone(&self) -> Self {
-                *self
-            }
-        }
-        impl Copy for $name {}
-    };
-}
-
-handle_fn!(BendMap { k: f32, lb: f32, hb: f32 } => |p| bend(p, k, lb, hb));
-handle_fn!(TwistMap { lb: f32, hb: f32, a0: f32, a1: f32 } => |p| twist(p, lb, hb, a0, a1));
-handle_fn!(SquashMap { lb: f32, hb: f32, f: f32, expand: f32, m: f32, ss: f32, es: f32 }
-    => |p| squash(p, lb, hb, f, expand, m, ss, es));
-handle_fn!(FlareMap { lb: f32, hb: f32, start: [f32; 2], end: [f32; 2], curve: f32 }
-    => |p| flare(p, lb, hb, start, end, curve));
-handle_fn!(SineMap { lb: f32, hb: f32, amplitude: f32, w: f32, offset: f32, dropoff: f32 }
-    => |p| sine(p, lb, hb, amplitude, w, offset, dropoff));
-handle_fn!(WaveMap { r0: f32, r1: f32, amplitude: f32, w: f32, offset: f32, dropoff: f32 }
-    => |p| wave(p, r0, r1, amplitude, w, offset, dropoff));
 
 /// Registers the handle shapes and `nonLinear`.
 pub fn register(registry: &mut Registry) -> Result<(), SpecError> {

@@ -146,7 +146,11 @@ fn maya_short_names_resolve() {
     let out = both(&mut g, "d.outputGeometry");
     let r = 2.0 / PI;
     assert!((out.positions[31] - Vec3::new(r, r, 0.0)).length() < 1e-6);
-    for (shape, short, long) in [("deformWave", "mxr", "maxRadius"), ("deformFlare", "crv", "curve")] {
+    for (shape, short, long) in [
+        ("deformWave", "mxr", "maxRadius"),
+        ("deformFlare", "crv", "curve"),
+        ("deformTwist", "ea", "endAngle"),
+    ] {
         let mut g = nonlinear(shape, grid(2, 2, (0.0, 1.0), (0.0, 1.0)));
         set(&mut g, &format!("h.{short}"), 0.25);
         assert_eq!(g.get_path(&format!("h.{long}")).unwrap().as_f64(), Some(0.25));
