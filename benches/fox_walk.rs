@@ -66,9 +66,9 @@ fn fox_walk(c: &mut Criterion) {
             let mut nodes = scene.nodes.clone();
             for ch in &scene.animations[anim].channels {
                 match ch.sample(t) {
-                    Sample::Translation(v) => nodes[ch.node].translation = v,
-                    Sample::Rotation(q) => nodes[ch.node].rotation = q,
-                    Sample::Scale(v) => nodes[ch.node].scale = v,
+                    Sample::Translation(v) => nodes[ch.node].translation = v.as_dvec3(),
+                    Sample::Rotation(q) => nodes[ch.node].rotation = q.as_dquat(),
+                    Sample::Scale(v) => nodes[ch.node].scale = v.as_dvec3(),
                     Sample::Weights(_) => {}
                 }
             }

@@ -225,3 +225,67 @@ fn watch_revalidates_on_change() {
     assert!(text.contains("unknown node type `jiont`"), "{text}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn custom_attributes_through_the_commands() {
+    let dir = std::env::temp_dir().join(format!("sinew-custom-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let rig = dir.join("rig.ron");
+    std::fs::write(
+        &rig,
+        r#"Rig(nodes: {
+  "foot_ctrl_L": transform(footRoll: 2.5, attrs: {
+    "footRoll": float(default: 0, min: -10, max: 10, keyable: true, short: "fr"),
+    "ikFk": enum(names: ["fk", "ik"], default: ik),
+  }),
+  "j": joint(),
+}, connections: ["foot_ctrl_L.fr -> j.rotateX"])"#,
+    )
+    .unwrap();
+    let r = rig.to_str().unwrap();
+    // --set and --print by long and short name; the custom value drives the joint.
+    let (code, out, err) = sinew(&[
+        "eval",
+        r,
+        "--frames",
+        "1..=1",
+        "--print",
+        "j.rx,foot_ctrl_L.ikFk,foot_ctrl_L.fr",
+        "--set",
+        "foot_ctrl_L.footRoll=-3",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(out.lines().nth(1), Some("1,-3.0,1,-3.0"), "{out}");
+    // Outside the limits: refused with the range.
+    let (code, _, err) = sinew(&[
+        "eval",
+        r,
+        "--frames",
+        "1..=1",
+        "--print",
+        "j.rx",
+        "--set",
+        "foot_ctrl_L.fr=11",
+    ]);
+    assert_eq!(code, 1);
+    assert!(err.contains("outside [-10, 10]"), "{err}");
+    // Listed by `sinew nodes NODE --rig`.
+    let (code, out, err) = sinew(&["nodes", "foot_ctrl_L", "--rig", r]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("in  footRoll (fr): float = 0 [-10, 10]  [custom]"),
+        "{out}"
+    );
+    // fmt keeps them, and formatting is a fixed point.
+    let (code, _, err) = sinew(&["fmt", r]);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&rig).unwrap();
+    assert!(
+        text.contains("\"ikFk\": enum(names: [\"fk\", \"ik\"], default: ik)"),
+        "{text}"
+    );
+    assert!(text.contains("footRoll: 2.5"), "{text}");
+    let (code, _, err) = sinew(&["fmt", r, "--check"]);
+    assert_eq!(code, 0, "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}

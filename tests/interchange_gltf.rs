@@ -33,7 +33,7 @@ fn reference_fk(scene: &Scene, anim: Option<usize>, t: f32) -> Vec<DMat4> {
     let mut trs: Vec<(DVec3, DQuat, DVec3)> = scene
         .nodes
         .iter()
-        .map(|n| (n.translation.as_dvec3(), n.rotation.as_dquat(), n.scale.as_dvec3()))
+        .map(|n| (n.translation, n.rotation, n.scale))
         .collect();
     if let Some(a) = anim {
         for ch in &scene.animations[a].channels {
@@ -63,7 +63,7 @@ fn reference_fk(scene: &Scene, anim: Option<usize>, t: f32) -> Vec<DMat4> {
         d[i] = true;
     }
     let local = |i: usize| match scene.nodes[i].matrix {
-        Some(m) if !animated.contains(&i) => m.as_dmat4(),
+        Some(m) if !animated.contains(&i) => m,
         _ => DMat4::from_scale_rotation_translation(trs[i].2, trs[i].1, trs[i].0),
     };
     for i in 0..scene.nodes.len() {
@@ -157,6 +157,7 @@ fn fox_plays_back_exactly_and_round_trips_through_bake() {
         fps: 30.0,
         tolerance: 0.0,
         name: "Walk".into(),
+        deformers_as_morphs: false,
     };
     let (baked, _) = bake(&mut graph, &opts).unwrap();
     let back = read_gltf_slice(&write_glb(&baked).unwrap(), None).unwrap();
@@ -196,12 +197,12 @@ fn test_scene() -> Scene {
             name: Some(n.to_string()),
             parent: p,
             translation: if p.is_some() {
-                Vec3::new(0.1 * i as f32, 1.0, 0.0)
+                Vec3::new(0.1 * i as f32, 1.0, 0.0).as_dvec3()
             } else {
-                Vec3::ZERO
+                DVec3::ZERO
             },
-            rotation: Quat::from_rotation_x(0.1 * i as f32),
-            scale: if i == 2 { Vec3::new(1.0, 1.5, 1.0) } else { Vec3::ONE },
+            rotation: Quat::from_rotation_x(0.1 * i as f32).as_dquat(),
+            scale: if i == 2 { DVec3::new(1.0, 1.5, 1.0) } else { DVec3::ONE },
             ..Node::default()
         })
         .collect();
@@ -212,7 +213,7 @@ fn test_scene() -> Scene {
     }
     nodes[6].mesh = Some(0);
     nodes[6].skin = Some(0);
-    nodes[6].translation = Vec3::new(5.0, 0.0, 0.0); // ignored by skinning (spec)
+    nodes[6].translation = DVec3::new(5.0, 0.0, 0.0); // ignored by skinning (spec)
     nodes[7].mesh = Some(1);
     nodes[7].skin = Some(1);
     let positions: Vec<Vec3> = (0..6).map(|k| Vec3::new(k as f32 * 0.3, k as f32 * 0.7, 0.2)).collect();
@@ -413,6 +414,7 @@ fn real_files_import_evaluate_and_bake() {
             fps: 30.0,
             tolerance: 0.0,
             name: "x".into(),
+            deformers_as_morphs: false,
         };
         let (baked, _) = bake(&mut g, &opts).unwrap();
         read_gltf_slice(&write_glb(&baked).unwrap(), None).unwrap();

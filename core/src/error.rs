@@ -32,6 +32,21 @@ impl ComputeError {
     }
 }
 
+/// An authored input value that its node type refuses beyond its type (see
+/// [`NodeType::check_input`](crate::NodeType::check_input)): an expression
+/// with a syntax error, for instance. The rig loader reports it at the value's
+/// place in the file, inside the string when `offset` is given.
+#[derive(Clone, Debug, Error, PartialEq)]
+#[error("{message}")]
+pub struct InputError {
+    /// Byte offset of the problem inside a string value (`None`: the whole value).
+    pub offset: Option<usize>,
+    /// What is wrong.
+    pub message: String,
+    /// How to fix it.
+    pub hint: Option<String>,
+}
+
 fn hint(s: &Option<String>) -> String {
     match s {
         Some(x) => format!(" (did you mean {x:?}?)"),
@@ -197,6 +212,27 @@ pub enum Error {
     Stale {
         /// What was stale.
         what: String,
+    },
+    /// Setting a number outside an attribute's hard limits (Maya's `setAttr` refuses it
+    /// too unless told to clamp).
+    #[error("{plug}: {value} {reason}; give a value inside the attribute's range")]
+    OutOfRange {
+        /// The plug.
+        plug: String,
+        /// The refused value.
+        value: f64,
+        /// Which limit it breaks.
+        reason: String,
+    },
+    /// Adding or removing a custom attribute that cannot be added or removed.
+    #[error("node {node:?}: custom attribute {attr:?}: {reason}")]
+    CustomAttr {
+        /// The node.
+        node: String,
+        /// The attribute.
+        attr: String,
+        /// Why, and the fix.
+        reason: String,
     },
     /// A compiled-program handle used for the wrong purpose.
     #[error("{0}")]

@@ -62,8 +62,9 @@ impl Instance {
     ///
     /// Errors name the plug: a handle from another program, an output
     /// ([`Error::NotAnInput`]), an input driven by a connection, a value of another type
-    /// ([`Error::WrongType`]; ints and enums convert) or not finite ([`Error::NonFinite`]).
-    /// A failed set changes nothing.
+    /// ([`Error::WrongType`]; ints and enums convert), not finite ([`Error::NonFinite`]) or
+    /// outside the attribute's hard limits ([`Error::OutOfRange`]). A failed set changes
+    /// nothing.
     pub fn set(&mut self, h: &PlugHandle, value: Value) -> Result<()> {
         if !self.program.owns(h) {
             return Err(Error::Program(
@@ -100,6 +101,20 @@ impl Instance {
         }
         if !value.is_finite() {
             return Err(Error::NonFinite { plug: plug() });
+        }
+        if let (None, Some(x)) = (comp, value.as_f64()) {
+            let attr = self
+                .program
+                .nodes
+                .get(h.node as usize)
+                .and_then(|n| n.kind.spec().attrs.get(h.attr as usize));
+            if let Some(reason) = attr.and_then(|a| a.out_of_range(x)) {
+                return Err(Error::OutOfRange {
+                    plug: plug(),
+                    value: x,
+                    reason,
+                });
+            }
         }
         let stored = match comp {
             Some(k) => self.slots.set_lane(slot, k, value.as_f64().unwrap_or(0.0)),

@@ -7,6 +7,7 @@
 //! pull-evaluate with early cutoff) and the compiled [`Program`] with its
 //! [`Instance`]s. The core knows no node type by name.
 
+pub mod custom;
 pub mod data;
 pub mod error;
 pub mod files;
@@ -22,6 +23,7 @@ pub mod program;
 pub mod program_bin;
 mod program_codec;
 mod program_compile;
+mod program_custom;
 mod program_layout;
 pub mod registry;
 pub mod rig;
@@ -29,11 +31,13 @@ mod slots;
 pub mod spec;
 mod tape;
 pub mod testing;
+pub mod validate;
 pub mod value;
 pub mod value_file;
 
+pub use custom::{CustomAffects, CustomNode};
 pub use data::{Curve, CurveForm, Mesh, Weights};
-pub use error::{ComputeError, Error, Result, SpecError};
+pub use error::{ComputeError, Error, InputError, Result, SpecError};
 pub use graph::{EvalStats, Graph, NodeId, Plug, MAX_ELEMENT_INDEX};
 pub use kernel::{finite, KernelNode, ScalarKernel, ScalarOp, MAX_KERNEL_INPUTS};
 pub use mat_kernel::{MatrixFn, MatrixKernel};
@@ -49,4 +53,5 @@ pub use spec::{
     AttrId, AttrSpec, ComputeGroup, DagLink, DagSpec, Direction, Input, MirrorRole, MultiInput, MultiOutput, NodeSpec,
     Output, SpecBuilder, Unit,
 };
+pub use validate::{Problem, ValidateInputs};
 pub use value::{AttrType, AttrValue, ObjectRef, SharedData, Value};

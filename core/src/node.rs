@@ -8,14 +8,16 @@
 
 use std::sync::Arc;
 
-use crate::error::ComputeError;
+use crate::custom::CustomAffects;
+use crate::error::{ComputeError, InputError};
 use crate::graph::store::AttrStore;
 pub use crate::inactive::KnownInputs;
 use crate::kernel::ScalarKernel;
 use crate::mat_kernel::MatrixKernel;
 use crate::program::{AttrBinding, Binding, CompiledTables, ElemBinding};
 use crate::slots::Slots;
-use crate::spec::{AttrId, Input, MultiInput, MultiOutput, NodeSpec, Output};
+use crate::spec::{AttrId, AttrSpec, Input, MultiInput, MultiOutput, NodeSpec, Output};
+pub use crate::validate::{Problem, ValidateInputs};
 use crate::value::{AttrValue, SharedData, Value};
 
 /// A node type: its spec and its compute function.
@@ -66,6 +68,51 @@ pub trait NodeType: Send + Sync + 'static {
     fn unread_inputs(&self, known: &KnownInputs<'_>) -> Vec<AttrId> {
         let _ = known;
         Vec::new()
+    }
+
+    /// Checks the node's input values for data that evaluation would refuse or silently
+    /// get wrong (a weight table shorter than its mesh, unsorted keys, a knot vector of
+    /// the wrong length), before any evaluation: `sinew check` and every rig load report
+    /// each [`Problem`] at the position of the value the rig file wrote, with the
+    /// numbers involved. `inputs` gives authored values, defaults and values arriving
+    /// from static upstream data (see [`ValidateInputs`]). The default finds nothing.
+    fn validate(&self, inputs: &ValidateInputs<'_>) -> Vec<Problem> {
+        let _ = inputs;
+        Vec::new()
+    }
+
+    /// Checks a value authored for input `attr` in a rig file beyond its type (an
+    /// expression's syntax, say), so the loader reports a mistake at its place in the file
+    /// (`file:line:col`, inside a string when [`InputError::offset`] is given) instead of
+    /// at the first evaluation. `spec` is the node's own spec (custom attributes
+    /// included). `compute` must still cope with any value (values also arrive through
+    /// `set` and connections). The default accepts everything.
+    fn check_input(&self, spec: &NodeSpec, attr: AttrId, value: &Value) -> Result<(), InputError> {
+        let _ = (spec, attr, value);
+        Ok(())
+    }
+
+    /// For node types whose compute reads or writes custom attributes (an expression node
+    /// whose named inputs and outputs are custom attributes): given the custom attributes
+    /// of a node (their ids start at `first`), which attributes affect each custom output
+    /// and which custom outputs read the graph's time (see [`CustomAffects`]). `compute`
+    /// then reaches them through [`ComputeContext::node_spec`] and handles made from their
+    /// ids ([`Input::new`], [`Output::new`]).
+    ///
+    /// An error (a message naming the attribute and the fix) refuses the attributes. The
+    /// default accepts custom inputs, which affect nothing (a rig's switches and dials that
+    /// other nodes read through connections), and refuses custom outputs, which nothing
+    /// would compute.
+    fn custom_affects(&self, custom: &[AttrSpec], first: AttrId) -> Result<CustomAffects, String> {
+        let _ = first;
+        match custom.iter().find(|a| !a.is_input()) {
+            Some(a) => Err(format!(
+                "custom attribute {} is an output, but node type {} computes no custom outputs; make it an input",
+                a.name,
+                self.spec().name
+            )),
+            None => Ok(CustomAffects::default()),
+        }
     }
 }
 
@@ -169,6 +216,13 @@ impl<'a> ComputeContext<'a> {
             group,
             time,
         }
+    }
+
+    /// The spec of the node being computed: its type's, followed by the node's custom
+    /// attributes ([`NodeSpec::custom_attrs`]), for node types that compute with them.
+    #[inline]
+    pub fn node_spec(&self) -> &'a NodeSpec {
+        self.spec()
     }
 
     /// The spec of the node being computed.

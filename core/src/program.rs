@@ -265,7 +265,10 @@ pub struct CompileOptions {
 
 pub(crate) struct NodeEntry {
     pub name: String,
+    /// The node's type (a [`crate::CustomNode`] when it has custom attributes).
     pub kind: Arc<dyn NodeType>,
+    /// The registered node type.
+    pub base: Arc<dyn NodeType>,
     pub attr_base: u32,
 }
 

@@ -7,7 +7,7 @@
 //! ```text
 //! header   "SINEWPRG" | format version u32 | flags u32 (0) | payload length u64 | FNV-1a 64 of payload
 //! payload  node types   name, attribute count, group count, spec fingerprint (u64)
-//!          nodes        name, type index, attribute base
+//!          nodes        name, type index, attribute base, custom attributes (see `program_custom`)
 //!          attributes   first element, element count   (head binding and group are derived)
 //!          elements     index, binding, driven flag (connected as a whole)
 //!          assemblies   own slot, three optional component sources
@@ -55,7 +55,7 @@ use crate::value::{AttrType, Value};
 /// The first eight bytes of every compiled program.
 pub const MAGIC: &[u8; 8] = b"SINEWPRG";
 /// The format version written by this build; other versions are refused.
-pub const FORMAT_VERSION: u32 = 3;
+pub const FORMAT_VERSION: u32 = 4;
 const HEADER_LEN: usize = 8 + 4 + 4 + 8 + 8;
 
 /// FNV-1a, 64 bit: the payload checksum and the spec fingerprint (stable across builds).
@@ -108,7 +108,7 @@ impl Program {
         let mut type_index: HashMap<&str, u32> = HashMap::new();
         let mut types: Vec<&NodeSpec> = Vec::new();
         for n in &self.nodes {
-            let spec = n.kind.spec();
+            let spec = n.base.spec();
             type_index.entry(spec.name.as_str()).or_insert_with(|| {
                 types.push(spec);
                 (types.len() - 1) as u32
@@ -124,8 +124,9 @@ impl Program {
         w.varint(self.nodes.len() as u64);
         for n in &self.nodes {
             w.str(&n.name);
-            w.varint(type_index.get(n.kind.spec().name.as_str()).copied().unwrap_or(0) as u64);
+            w.varint(type_index.get(n.base.spec().name.as_str()).copied().unwrap_or(0) as u64);
             w.varint(n.attr_base as u64);
+            w.custom_attrs(n.kind.spec().custom_attrs());
         }
         w.varint(self.attr_bindings.len() as u64);
         for ab in &self.attr_bindings {
@@ -306,17 +307,21 @@ fn decode_payload(payload: &[u8], registry: &Registry) -> Result<Program> {
     for i in 0..n {
         let name = r.str("node name")?;
         let t = r.u32v("node type index")? as usize;
-        let kind = types
+        let base = types
             .get(t)
             .cloned()
             .ok_or_else(|| r.fail(&format!("node type index {t} out of range")))?;
         let attr_base = r.u32v("attribute base")?;
+        let custom = r.custom_attrs()?;
+        let kind = crate::custom::node_type_with(&base, &custom)
+            .map_err(|e| r.fail(&format!("custom attributes of node `{name}`: {}", e.message)))?;
         if node_index.insert(name.to_string(), i as u32).is_some() {
             return Err(r.fail(&format!("node name `{name}` appears twice")));
         }
         nodes.push(NodeEntry {
             name: name.to_string(),
             kind,
+            base,
             attr_base,
         });
     }

@@ -332,6 +332,7 @@ impl<'g> Compiler<'g> {
                 NodeEntry {
                     name: d.name.clone(),
                     kind: d.kind.clone(),
+                    base: d.base.clone(),
                     attr_base: self.attr_base[ni],
                 }
             })

@@ -84,6 +84,15 @@ pub struct AttrSpec {
     /// Maya's short names of the three children of a vec3 attribute (`tx ty tz`), when the
     /// attribute has a short name.
     pub child_short_names: Option<[String; 3]>,
+    /// Hard minimum of a float or int attribute: setting a smaller value is refused
+    /// (Maya's `setAttr` without `-clamp`); values arriving through connections pass.
+    pub min: Option<f64>,
+    /// Hard maximum, as [`AttrSpec::min`].
+    pub max: Option<f64>,
+    /// Soft minimum: the slider range of a UI; not enforced.
+    pub soft_min: Option<f64>,
+    /// Soft maximum: the slider range of a UI; not enforced.
+    pub soft_max: Option<f64>,
 }
 
 /// How an authored attribute value changes when a rig component is
@@ -198,6 +207,9 @@ pub struct NodeSpec {
     affected_groups: Vec<Vec<u16>>,
     by_name: HashMap<String, (AttrId, Option<u8>)>,
     by_short: HashMap<String, (AttrId, Option<u8>)>,
+    /// Index of the first custom attribute (`attrs.len()` when the node has none; see
+    /// [`NodeSpec::custom_attrs`]).
+    pub(crate) custom_start: u16,
 }
 
 impl NodeSpec {
@@ -212,6 +224,8 @@ impl NodeSpec {
             time_outputs: Vec::new(),
             dag: None,
             maya_names: Vec::new(),
+            explicit: false,
+            custom_start: None,
         }
     }
 
@@ -272,6 +286,22 @@ impl NodeSpec {
     pub fn attr_ids(&self) -> impl Iterator<Item = AttrId> {
         (0..self.attrs.len() as u16).map(AttrId)
     }
+
+    /// The custom attributes of a node (Maya's `addAttr`), after the type's own: empty
+    /// for a node type's spec. Their ids start at [`NodeSpec::first_custom`].
+    pub fn custom_attrs(&self) -> &[AttrSpec] {
+        self.attrs.get(self.custom_start as usize..).unwrap_or(&[])
+    }
+
+    /// The id of the first custom attribute (the type's attribute count).
+    pub fn first_custom(&self) -> AttrId {
+        AttrId(self.custom_start)
+    }
+
+    /// Whether attribute `id` is a custom attribute.
+    pub fn is_custom(&self, id: AttrId) -> bool {
+        id.0 >= self.custom_start && id.index() < self.attrs.len()
+    }
 }
 
 /// Builds a [`NodeSpec`]; each `input`/`output` call returns a typed handle
@@ -280,13 +310,18 @@ impl NodeSpec {
 pub struct SpecBuilder {
     name: String,
     doc: String,
-    attrs: Vec<AttrSpec>,
-    affects: Vec<(AttrId, AttrId)>,
-    time_dependent: bool,
-    time_outputs: Vec<AttrId>,
-    dag: Option<DagSpec>,
+    pub(crate) attrs: Vec<AttrSpec>,
+    pub(crate) affects: Vec<(AttrId, AttrId)>,
+    pub(crate) time_dependent: bool,
+    pub(crate) time_outputs: Vec<AttrId>,
+    pub(crate) dag: Option<DagSpec>,
     /// `(long, short)` pairs given to [`SpecBuilder::maya_names`], applied by `build`.
     maya_names: Vec<(String, String)>,
+    /// Set for specs with custom attributes: `affects` and `time_outputs` are complete
+    /// (no all-to-all default, no "every output reads time" default).
+    pub(crate) explicit: bool,
+    /// Where custom attributes start (`attrs.len()` unless set).
+    pub(crate) custom_start: Option<u16>,
 }
 
 impl SpecBuilder {
@@ -311,6 +346,10 @@ impl SpecBuilder {
             mirror: MirrorRole::None,
             short_name: None,
             child_short_names: None,
+            min: None,
+            max: None,
+            soft_min: None,
+            soft_max: None,
         });
         id
     }
@@ -685,7 +724,7 @@ impl SpecBuilder {
         let mut groups: Vec<ComputeGroup> = Vec::new();
         let mut group_of = vec![u16::MAX; n];
         for &o in &outputs {
-            let mut ins: Vec<AttrId> = if self.affects.is_empty() {
+            let mut ins: Vec<AttrId> = if self.affects.is_empty() && !self.explicit {
                 inputs.clone()
             } else {
                 self.affects
@@ -696,7 +735,8 @@ impl SpecBuilder {
             };
             ins.sort();
             ins.dedup();
-            let timed = self.time_dependent && (self.time_outputs.is_empty() || self.time_outputs.contains(&o));
+            let timed = self.time_dependent
+                && ((self.time_outputs.is_empty() && !self.explicit) || self.time_outputs.contains(&o));
             let g = match groups.iter().position(|g| g.inputs == ins && g.time_dependent == timed) {
                 Some(g) => g,
                 None => {
@@ -749,7 +789,9 @@ impl SpecBuilder {
                 return Err(err("dag hookup must name a matrix input and a matrix output".into()));
             }
         }
+        let custom_start = self.custom_start.unwrap_or(self.attrs.len() as u16);
         Ok(NodeSpec {
+            custom_start,
             name: self.name,
             doc: self.doc,
             attrs: self.attrs,

@@ -458,6 +458,87 @@ impl NodeType for CachedRamp {
     }
 }
 
+/// `exprSum`: a node type whose compute uses custom attributes, like an expression node.
+/// Custom float outputs are allowed; the `k`-th one is `bias + frame + (k + 1) * sum` of
+/// the node's single custom float inputs, so every custom float input, `bias` and time
+/// affect every custom output (see [`NodeType::custom_affects`]). Its own output `echo`
+/// is `bias`.
+pub struct ExprSum {
+    spec: NodeSpec,
+    bias: Input<f64>,
+    echo: Output<f64>,
+}
+
+impl ExprSum {
+    /// Creates the node type.
+    pub fn new() -> Result<Self, SpecError> {
+        let mut s = NodeSpec::builder("exprSum");
+        let bias = s.input("bias", 0.0);
+        let echo = s.output("echo", 0.0);
+        Ok(ExprSum {
+            spec: s.build()?,
+            bias,
+            echo,
+        })
+    }
+
+    fn summed(spec: &NodeSpec) -> impl Iterator<Item = AttrId> + '_ {
+        spec.attr_ids().filter(|&a| {
+            let x = spec.attr(a);
+            spec.is_custom(a) && x.is_input() && !x.multi && x.ty == crate::value::AttrType::Float
+        })
+    }
+}
+
+impl NodeType for ExprSum {
+    fn spec(&self) -> &NodeSpec {
+        &self.spec
+    }
+    fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
+        let spec = ctx.node_spec();
+        let bias = ctx.get(self.bias);
+        if ctx.wants(self.echo) {
+            ctx.set(self.echo, bias);
+        }
+        let outputs: Vec<AttrId> = spec
+            .attr_ids()
+            .filter(|&a| spec.is_custom(a) && !spec.attr(a).is_input())
+            .collect();
+        if !outputs.iter().any(|&o| ctx.wants(o)) {
+            return Ok(()); // the `echo` group reads only `bias`
+        }
+        let sum: f64 = Self::summed(spec).map(|a| ctx.get(Input::<f64>::new(a))).sum();
+        let frame = ctx.time().frame;
+        for (k, o) in outputs.into_iter().enumerate() {
+            if ctx.wants(o) {
+                ctx.set(Output::<f64>::new(o), bias + frame + (k as f64 + 1.0) * sum);
+            }
+        }
+        Ok(())
+    }
+    fn custom_affects(&self, custom: &[crate::spec::AttrSpec], first: AttrId) -> Result<crate::CustomAffects, String> {
+        let id = |k: usize| AttrId(first.0 + k as u16);
+        let mut inputs = vec![self.bias.id()];
+        let mut outputs = Vec::new();
+        for (k, a) in custom.iter().enumerate() {
+            match (a.is_input(), a.ty, a.multi) {
+                (true, crate::value::AttrType::Float, false) => inputs.push(id(k)),
+                (true, ..) => {}
+                (false, crate::value::AttrType::Float, false) => outputs.push(id(k)),
+                (false, ..) => return Err(format!("custom output {} must be a single float", a.name)),
+            }
+        }
+        let affects = outputs
+            .iter()
+            .flat_map(|&o| inputs.iter().map(move |&i| (i, o)))
+            .collect();
+        Ok(crate::CustomAffects {
+            affects,
+            time_outputs: outputs,
+        })
+    }
+}
+
 /// A registry with all the test node types.
 pub fn registry() -> Result<Arc<Registry>, SpecError> {
     let mut r = Registry::new();
@@ -470,6 +551,7 @@ pub fn registry() -> Result<Arc<Registry>, SpecError> {
     r.register(TimeSource::new()?)?;
     r.register(Pick::new()?)?;
     r.register(CachedRamp::new()?)?;
+    r.register(ExprSum::new()?)?;
     r.register(TestXform::new(true)?)?;
     r.register(TestXform::new(false)?)?;
     Ok(Arc::new(r))

@@ -5,10 +5,11 @@
 use std::sync::Arc;
 
 use proptest::prelude::*;
-use sinew_core::{testing, AttrType, CompileOptions, Direction, Graph, Instance, Plug, Program, Time, Value};
+use sinew_core::{testing, AttrSpec, AttrType, CompileOptions, Direction, Graph, Instance, Plug, Program, Time, Value};
 
-const TYPES: [&str; 8] = [
+const TYPES: [&str; 9] = [
     "add",
+    "exprSum",
     "clampPositive",
     "twoGroups",
     "vecScale",
@@ -38,6 +39,17 @@ enum Op {
         node: usize,
         attr: usize,
     },
+    /// A custom attribute of kind `kind` (see `custom_decl`) on a node.
+    AddAttr {
+        node: usize,
+        kind: u8,
+        value: f64,
+    },
+    /// Removes the `k`-th custom attribute of a node.
+    RemoveAttr {
+        node: usize,
+        k: usize,
+    },
 }
 
 fn op() -> impl Strategy<Value = Op> {
@@ -49,6 +61,8 @@ fn op() -> impl Strategy<Value = Op> {
         1 => (0..64usize).prop_map(Op::Remove),
         1 => (-50..50i32).prop_map(Op::Time),
         2 => (0..64usize, 0..8usize).prop_map(|(node, attr)| Op::Get { node, attr }),
+        2 => (0..64usize, 0..6u8, -2.0..2.0f64).prop_map(|(node, kind, value)| Op::AddAttr { node, kind, value }),
+        1 => (0..64usize, 0..4usize).prop_map(|(node, k)| Op::RemoveAttr { node, k }),
     ]
 }
 
@@ -73,15 +87,31 @@ fn pick(g: &Graph, node: usize, attr: usize, sel: u8, want_input: Option<bool>) 
     Some(p)
 }
 
+/// A custom attribute: a float input, a float input limited to [-1, 1] (the value may be
+/// outside: then adding fails), a vec3 input, a bool input, a float output (only
+/// `exprSum` computes custom outputs; elsewhere adding fails) or a multi float input.
+fn custom_decl(name: &str, kind: u8, value: f64) -> AttrSpec {
+    let float = AttrSpec::custom(name, Value::Float(value));
+    match kind % 6 {
+        0 => float,
+        1 => float.with_range(Some(-1.0), Some(1.0)),
+        2 => AttrSpec::custom(name, Value::Vec3(glam::DVec3::new(value, 1.0, -value))),
+        3 => AttrSpec::custom(name, Value::Bool(value > 0.0)),
+        4 => float.as_output(),
+        _ => float.with_multi(true),
+    }
+}
+
 /// Everything authored about a graph, to check that failed edits change nothing.
 fn fingerprint(g: &Graph) -> String {
     let mut s = String::new();
     for id in g.nodes() {
         s.push_str(&format!(
-            "{}:{}:{:?};",
+            "{}:{}:{:?}:{:?};",
             g.node_name(id).unwrap_or("?"),
             g.node_type(id).unwrap_or("?"),
-            g.parent_of(id)
+            g.parent_of(id),
+            g.custom_attrs(id)
         ));
         let spec = g.node_spec(id).expect("live node");
         for a in spec.attr_ids() {
@@ -154,6 +184,29 @@ fn apply(g: &mut Graph, op: &Op, counter: &mut usize) {
             }
         }
         Op::Time(f) => g.set_time(Time::new(f as f64, 24.0)),
+        Op::AddAttr { node, kind, value } => {
+            let ids = g.nodes();
+            let Some(&id) = ids.get(node % ids.len().max(1)) else {
+                return;
+            };
+            *counter += 1;
+            let before = fingerprint(g);
+            if g.add_attr(id, custom_decl(&format!("c{counter}"), kind, value))
+                .is_err()
+            {
+                assert_eq!(before, fingerprint(g), "a failed add_attr changed the graph");
+            }
+        }
+        Op::RemoveAttr { node, k } => {
+            let ids = g.nodes();
+            let Some(&id) = ids.get(node % ids.len().max(1)) else {
+                return;
+            };
+            let Some(name) = g.custom_attrs(id).get(k).map(|a| a.name.clone()) else {
+                return;
+            };
+            g.remove_attr(id, &name).expect("remove an existing custom attribute");
+        }
         Op::Get { node, attr } => {
             if let Some(p) = pick(g, node, attr, 0, Some(false)) {
                 // Only `clampPositive` can fail (inputs below -1000, which sums and products

@@ -14,8 +14,14 @@
 //!   are the DAG nodes feeding `matrix[i]` and whose inverse bind matrices are
 //!   `bindPreMatrix[i]`. `matrix[0..n]` must all be connected from DAG nodes' `worldMatrix`.
 //! - **Morph targets**: a `blendShape` before the skin (or alone) gives dense position
-//!   targets and a `weights` channel sampling `weight[i]`. In-between targets and weight
-//!   maps are not representable in glTF and are reported as warnings.
+//!   targets: one per target and one per in-between, weight maps folded in, and a `weights`
+//!   channel holding each key's hat-function weight of the driving `weight[i]` times the
+//!   envelope, so the glTF blend equals sinew's at every baked frame (see
+//!   [`super::bake_morphs`]).
+//! - **Other deformers** (cluster, nonLinear, ffd, deltaMush, wire, wrap, ...) have no glTF
+//!   form: a warning names each one lost, or, with [`BakeOptions::deformers_as_morphs`]
+//!   (`--bake-deformers-as-morphs`), that mesh's final output is baked as one morph target
+//!   per frame.
 //! - **Static meshes**: a `mesh` node feeding no deformer is attached to the DAG node that
 //!   drives its `worldMatrix` (or a new root).
 //! - **Animation**: one animation "baked", LINEAR, one key per frame at
@@ -30,9 +36,8 @@ use std::sync::Arc;
 use glam::{DMat4, Mat4, Quat, Vec3};
 use sinew_core::{CompileOptions, Graph, Instance, NodeId, Plug, Program, Time, Value};
 
-use super::scene::{
-    AnimPath, Animation, AnimationChannel, Interpolation, MorphTarget, Node, Primitive, Scene, SceneMesh, Skin,
-};
+use super::bake_morphs::{blend_morphs, chain_losses, BlendMorphs, MorphDrive};
+use super::scene::{AnimPath, Animation, AnimationChannel, Interpolation, Node, Primitive, Scene, SceneMesh, Skin};
 
 /// Options of [`bake`].
 #[derive(Clone, Debug)]
@@ -47,6 +52,9 @@ pub struct BakeOptions {
     pub tolerance: f64,
     /// Animation name.
     pub name: String,
+    /// Bake meshes whose deformer chain glTF cannot express as per-frame morph targets
+    /// (otherwise warn that those deformers are lost).
+    pub deformers_as_morphs: bool,
 }
 
 /// Whether node type `spec` is a DAG transform.
@@ -111,9 +119,11 @@ struct GeomOut {
     /// Base mesh.
     base: sinew_core::Mesh,
     skin: Option<(Vec<NodeId>, Vec<Mat4>, sinew_core::Weights)>,
-    blend: Option<(NodeId, Vec<u32>, Vec<MorphTarget>)>,
+    blend: Option<BlendMorphs>,
     owner: Option<NodeId>,
     label: String,
+    /// Deformers of the chain glTF cannot express, and the chain's final mesh.
+    lost: (Vec<String>, Option<Plug>),
 }
 
 fn source(g: &Graph, node: NodeId, attr: &str) -> Result<Option<Plug>, String> {
@@ -128,20 +138,12 @@ fn mesh_of(g: &mut Graph, p: Plug) -> Result<sinew_core::Mesh, String> {
 }
 
 /// Base mesh and morph targets upstream of a geometry input `node.attr`.
-#[allow(clippy::type_complexity)]
 fn chain_input(
     g: &mut Graph,
     node: NodeId,
     attr: &str,
     warnings: &mut Vec<String>,
-) -> Result<
-    (
-        sinew_core::Mesh,
-        Option<(NodeId, Vec<u32>, Vec<MorphTarget>)>,
-        Option<NodeId>,
-    ),
-    String,
-> {
+) -> Result<(sinew_core::Mesh, Option<BlendMorphs>, Option<NodeId>), String> {
     let Some(src) = source(g, node, attr)? else {
         return Err(format!("{}.{attr} is not connected; connect a mesh", name(g, node)));
     };
@@ -152,12 +154,18 @@ fn chain_input(
         };
         let base = mesh_of(g, base_plug)?;
         let owner = shape_owner(g, base_plug.node)?;
-        let (targets, list) = blend_targets(g, bs, base.vertex_count(), warnings)?;
-        return Ok((base, Some((bs, list, targets)), owner));
+        let morphs = blend_morphs(g, bs, base.vertex_count(), warnings)?;
+        return Ok((base, Some(morphs), owner));
     }
     let base = mesh_of(g, src)?;
     let owner = shape_owner(g, src.node)?;
     Ok((base, None, owner))
+}
+
+/// Whether `mesh`'s `inMesh` comes from a deformer (a node with an `outputGeometry`).
+fn fed_by_deformer(g: &Graph, mesh: NodeId) -> Result<bool, String> {
+    Ok(source(g, mesh, "inMesh")?
+        .is_some_and(|p| g.node_spec(p.node).is_some_and(|s| s.find("outputGeometry").is_some())))
 }
 
 /// The DAG node driving a `mesh` node's `worldMatrix`.
@@ -168,59 +176,6 @@ fn shape_owner(g: &Graph, shape: NodeId) -> Result<Option<NodeId>, String> {
     Ok(source(g, shape, "worldMatrix")?
         .map(|p| p.node)
         .filter(|&n| is_dag(g, n)))
-}
-
-fn blend_targets(
-    g: &mut Graph,
-    bs: NodeId,
-    vc: usize,
-    warnings: &mut Vec<String>,
-) -> Result<(Vec<MorphTarget>, Vec<u32>), String> {
-    let spec = g.node_spec(bs).ok_or("stale node")?;
-    let deltas_attr = spec.find("targetDeltas").ok_or("blendShape without targetDeltas")?.0;
-    let ib_attr = spec.find("inbetweenDeltas").map(|a| a.0);
-    let wm_attr = spec.find("targetWeightMap").map(|a| a.0);
-    let list = g.elements(bs, deltas_attr);
-    if ib_attr.is_some_and(|a| !g.elements(bs, a).is_empty()) {
-        warnings.push(format!(
-            "{}: in-between targets cannot be exported to glTF; ignored",
-            name(g, bs)
-        ));
-    }
-    if wm_attr.is_some_and(|a| !g.elements(bs, a).is_empty()) {
-        warnings.push(format!("{}: target weight maps are not exported", name(g, bs)));
-    }
-    let bname = name(g, bs);
-    let mut targets = Vec::new();
-    for &t in &list {
-        let idx = g
-            .get_path(&format!("{bname}.targetIndices[{t}]"))
-            .map_err(|e| e.to_string())?;
-        let del = g
-            .get_path(&format!("{bname}.targetDeltas[{t}]"))
-            .map_err(|e| e.to_string())?;
-        let (Value::IntArray(idx), Value::Vec3Array(del)) = (idx, del) else {
-            return Err(format!("{bname}: target {t} has unexpected value types"));
-        };
-        let mut pos = vec![Vec3::ZERO; vc];
-        for (k, d) in del.iter().enumerate() {
-            let v = match idx.get(k) {
-                Some(&v) => v,
-                None if idx.is_empty() => k as i64,
-                None => return Err(format!("{bname}: target {t} has more deltas than indices")),
-            };
-            let slot = usize::try_from(v)
-                .ok()
-                .and_then(|v| pos.get_mut(v))
-                .ok_or_else(|| format!("{bname}: target {t} moves vertex {v} but the mesh has {vc}"))?;
-            *slot += d.as_vec3();
-        }
-        targets.push(MorphTarget {
-            positions: pos,
-            normals: Vec::new(),
-        });
-    }
-    Ok((targets, list))
 }
 
 /// Evaluates `graph` over the frames and builds the baked scene (see the module docs).
@@ -286,8 +241,8 @@ pub fn bake(graph: &mut Graph, opts: &BakeOptions) -> Result<(Scene, Vec<String>
             continue;
         }
         let (base, blend, _) = chain_input(graph, n, "inputGeometry", &mut warnings)?;
-        if let Some((bs, _, _)) = &blend {
-            consumed.insert(*bs);
+        if let Some(b) = &blend {
+            consumed.insert(b.node);
         }
         let spec = graph.node_spec(n).ok_or("stale node")?;
         let m_attr = spec.find("matrix").ok_or("skinCluster without matrix")?.0;
@@ -327,6 +282,7 @@ pub fn bake(graph: &mut Graph, opts: &BakeOptions) -> Result<(Scene, Vec<String>
             blend,
             owner: None,
             label: sc,
+            lost: chain_losses(graph, n),
         });
     }
     let feeds: HashSet<NodeId> = graph
@@ -343,16 +299,18 @@ pub fn bake(graph: &mut Graph, opts: &BakeOptions) -> Result<(Scene, Vec<String>
                 };
                 let base = mesh_of(graph, base_plug)?;
                 let owner = shape_owner(graph, base_plug.node)?;
-                let (targets, list) = blend_targets(graph, n, base.vertex_count(), &mut warnings)?;
+                let morphs = blend_morphs(graph, n, base.vertex_count(), &mut warnings)?;
                 geoms.push(GeomOut {
                     base,
                     skin: None,
-                    blend: Some((n, list, targets)),
+                    blend: Some(morphs),
                     owner,
                     label: name(graph, n),
+                    lost: chain_losses(graph, n),
                 });
             }
-            Some("mesh") if !feeds.contains(&n) => {
+            // A mesh fed by a deformer is the end of a chain exported from its start.
+            Some("mesh") if !feeds.contains(&n) && !fed_by_deformer(graph, n)? => {
                 let p = attr_plug(graph, n, "outMesh")?;
                 let base = mesh_of(graph, p)?;
                 let owner = shape_owner(graph, n)?;
@@ -362,6 +320,7 @@ pub fn bake(graph: &mut Graph, opts: &BakeOptions) -> Result<(Scene, Vec<String>
                     blend: None,
                     owner,
                     label: name(graph, n),
+                    lost: chain_losses(graph, n),
                 });
             }
             _ => {}
@@ -392,19 +351,48 @@ pub fn bake(graph: &mut Graph, opts: &BakeOptions) -> Result<(Scene, Vec<String>
             name: Some(format!("{}_mesh", g.label)),
             ..Default::default()
         };
-        let mut weights_handles = Vec::new();
-        if let Some((bs, list, targets)) = g.blend {
-            let bname = name(graph, bs);
-            for &t in &list {
-                weights_handles.push(
-                    program
-                        .handle(&format!("{bname}.weight[{t}]"))
-                        .map_err(|e| e.to_string())?,
-                );
+        let (lost, final_plug) = g.lost;
+        let mut drive = None;
+        let mut skin = g.skin;
+        if !lost.is_empty() {
+            let list = lost.join(", ");
+            match final_plug {
+                Some(fp) if opts.deformers_as_morphs => {
+                    let h = program.handle(&graph.plug_name(fp)).map_err(|e| e.to_string())?;
+                    warnings.push(format!(
+                        "{}: {list} baked as one morph target per frame (the mesh is not skinned in the glTF)",
+                        g.label
+                    ));
+                    drive = Some(MorphDrive::Frames { final_h: h, meshes: Vec::new() });
+                    skin = None;
+                }
+                _ => warnings.push(format!(
+                    "{}: glTF cannot express {list}; their deformation is lost (bake them with --bake-deformers-as-morphs)",
+                    g.label
+                )),
             }
-            prim.targets = targets;
         }
-        if let Some((joints, ibms, w)) = g.skin {
+        if let (None, Some(b)) = (&drive, g.blend) {
+            let bname = name(graph, b.node);
+            let weights = b
+                .weight_indices
+                .iter()
+                .map(|t| program.handle(&format!("{bname}.weight[{t}]")))
+                .collect::<Result<Vec<_>, _>>()
+                .map_err(|e| e.to_string())?;
+            let envelope = program
+                .handle(&format!("{bname}.envelope"))
+                .map_err(|e| e.to_string())?;
+            prim.targets = b.morphs.clone();
+            if !b.keys.is_empty() {
+                drive = Some(MorphDrive::Blend {
+                    morphs: b,
+                    weights,
+                    envelope,
+                });
+            }
+        }
+        if let Some((joints, ibms, w)) = skin {
             scene.skins.push(Skin {
                 name: Some(g.label.clone()),
                 joints: joints.iter().map(|j| index[j]).collect(),
@@ -429,8 +417,8 @@ pub fn bake(graph: &mut Graph, opts: &BakeOptions) -> Result<(Scene, Vec<String>
             _ => scene.roots.push(id),
         }
         scene.nodes.push(node);
-        if !weights_handles.is_empty() {
-            weight_h.push(weights_handles);
+        if let Some(d) = drive {
+            weight_h.push(d);
             morph_nodes.push(id);
         }
     }
@@ -447,15 +435,17 @@ pub fn bake(graph: &mut Graph, opts: &BakeOptions) -> Result<(Scene, Vec<String>
         for i in 0..n {
             trs[i].push(local_trs(parent_idx[i].map(|p| world[p]), world[i]));
         }
-        for (k, hs) in weight_h.iter().enumerate() {
-            for h in hs {
-                morph[k].push(inst.get(h).as_f64().unwrap_or(0.0) as f32);
-            }
+        for (k, d) in weight_h.iter_mut().enumerate() {
+            d.sample(&inst, &mut morph[k]);
         }
     }
-    for (k, w) in morph.iter().enumerate() {
-        let width = weight_h[k].len();
-        scene.nodes[morph_nodes[k]].weights = w[..width].iter().map(|&x| f64::from(x)).collect();
+    let mut widths = Vec::new();
+    for (k, d) in weight_h.into_iter().enumerate() {
+        let node = &scene.nodes[morph_nodes[k]];
+        let mesh = node.mesh.ok_or("morph node without mesh")?;
+        let width = d.finish(frames.len(), &mut scene.meshes[mesh].primitives[0], &mut morph[k]);
+        scene.nodes[morph_nodes[k]].weights = morph[k][..width].iter().map(|&x| f64::from(x)).collect();
+        widths.push(width);
     }
     let times: Vec<f32> = frames
         .iter()
@@ -519,7 +509,7 @@ pub fn bake(graph: &mut Graph, opts: &BakeOptions) -> Result<(Scene, Vec<String>
         );
     }
     for (k, w) in morph.iter().enumerate() {
-        let width = weight_h[k].len();
+        let width = widths[k];
         let keys: Vec<Vec<f32>> = w.chunks(width).map(|c| c.to_vec()).collect();
         let rest = [keys[0].clone()];
         push_channel(

@@ -3,12 +3,14 @@
 //! importer and baker map these structs to and from graph nodes.
 
 pub mod bake;
+pub mod bake_morphs;
 pub mod bvh;
 mod gltf_binary;
 pub mod gltf_read;
 pub mod gltf_write;
 pub mod import_bvh;
 pub mod import_gltf;
+pub mod maya;
 pub mod mesh_file;
 pub mod obj;
 pub mod retarget;

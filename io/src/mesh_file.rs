@@ -80,6 +80,10 @@ impl RigSource for MeshFileSource {
         FsSource.read(path)
     }
 
+    fn file_names(&self, dir: &Path) -> Vec<String> {
+        FsSource.file_names(dir)
+    }
+
     fn load_value(&self, path: &Path, ty: AttrType) -> Result<Value, String> {
         match ty {
             AttrType::Mesh if is_mesh_file(path) => load_mesh(path).map(|m| Value::Mesh(Arc::new(m))),

@@ -34,6 +34,8 @@ pub enum AttrVal {
     One(Value),
     /// Elements `0..n` of a multi attribute.
     Multi(Vec<Value>),
+    /// Sparse elements `(index, value)` of a multi attribute, written as a RON map.
+    Sparse(Vec<(u32, Value)>),
 }
 
 /// One node of a [`RigBuilder`].
@@ -134,6 +136,11 @@ impl RigBuilder {
         self.nodes[i].values.push((attr.to_string(), AttrVal::Multi(v)));
     }
 
+    /// Sets sparse elements `(index, value)` of a multi attribute of node `i`.
+    pub fn set_sparse(&mut self, i: usize, attr: &str, v: Vec<(u32, Value)>) {
+        self.nodes[i].values.push((attr.to_string(), AttrVal::Sparse(v)));
+    }
+
     /// Adds a connection.
     pub fn connect(&mut self, src: impl Into<String>, dst: impl Into<String>) {
         self.connections.push((src.into(), dst.into()));
@@ -159,6 +166,9 @@ impl RigBuilder {
                     AttrVal::Multi(vs) => vs
                         .iter()
                         .enumerate()
+                        .try_for_each(|(k, v)| g.set_path(&format!("{}.{attr}[{k}]", n.name), v.clone())),
+                    AttrVal::Sparse(vs) => vs
+                        .iter()
                         .try_for_each(|(k, v)| g.set_path(&format!("{}.{attr}[{k}]", n.name), v.clone())),
                 }
                 .map_err(|e| format!("{}.{attr}: {e}", n.name))?;
@@ -212,6 +222,17 @@ impl RigBuilder {
                             value(&mut s, v, format!("{}.{attr}.{k}", n.name));
                         }
                         s.push(']');
+                    }
+                    AttrVal::Sparse(vs) => {
+                        s.push('{');
+                        for (k, (i, v)) in vs.iter().enumerate() {
+                            if k > 0 {
+                                s.push_str(", ");
+                            }
+                            let _ = write!(s, "{i}: ");
+                            print_ast(&mut s, &write_value(v, a));
+                        }
+                        s.push('}');
                     }
                 }
                 parts.push(s);

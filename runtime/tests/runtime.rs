@@ -237,3 +237,35 @@ proptest! {
         }
     }
 }
+
+/// Custom attributes (declared in the rig) are inputs and outputs like any other for the
+/// runtime: typed handles by long or short name, limits, compiled bytes.
+#[test]
+fn custom_attribute_handles() {
+    let rt = Runtime::new().unwrap();
+    let text = r#"Rig(nodes: {
+        "ctrl": transform(attrs: {
+            "footRoll": float(min: -10, max: 10, short: "fr"),
+            "ikFk": enum(names: ["fk", "ik"]),
+        }),
+        "toe": joint(),
+        "ik_switch": joint(),
+    }, connections: ["ctrl.footRoll -> toe.rotateX", "ctrl.ikFk -> ik_switch.rotateOrder"])"#;
+    let rig = rt.load_rig_text(text, &LoadOptions::default()).unwrap();
+    let rig = rt.load_rig_bytes(&rig.to_bytes()).unwrap();
+    let roll = rig.input::<f64>("ctrl.fr").unwrap();
+    let ik = rig.input::<i64>("ctrl.ikFk").unwrap();
+    let toe = rig.output::<DMat4>("toe.worldMatrix").unwrap();
+    let mut inst = rig.instantiate();
+    inst.set(&roll, 10.0).unwrap();
+    inst.set(&ik, 1).unwrap();
+    assert!(inst.set(&roll, 10.5).is_err(), "outside the limits");
+    inst.evaluate(Time::new(1.0, 24.0)).unwrap();
+    let m = inst.get(&toe).unwrap();
+    // rotateX 10 degrees: the Y axis turns towards +Z.
+    let a = 10f64.to_radians();
+    assert!(
+        (m.y_axis.y - a.cos()).abs() < 1e-12 && (m.y_axis.z - a.sin()).abs() < 1e-12,
+        "{m}"
+    );
+}

@@ -29,6 +29,7 @@ pub fn bake_cmd(
     fps: Option<f64>,
     tolerance: f64,
     out: &Path,
+    deformers_as_morphs: bool,
     registry: &Arc<Registry>,
 ) -> Result<String, String> {
     let rig = load(rig_path, registry)?;
@@ -47,6 +48,7 @@ pub fn bake_cmd(
         fps,
         tolerance,
         name: rig.document.name.clone().unwrap_or_else(|| "baked".into()),
+        deformers_as_morphs,
     };
     let (scene, warnings) = bake(&mut graph, &opts).map_err(|e| format!("{}: {e}", rig_path.display()))?;
     write_scene(&scene, out)?;

@@ -1,5 +1,5 @@
-//! `sinew import`: glTF (`.gltf`, `.glb`) or BVH files to an editable rig (`RIG.ron`
-//! plus its data sidecar `RIG.data.ron`).
+//! `sinew import`: Maya ASCII (`.ma`), glTF (`.gltf`, `.glb`) or BVH files to an editable
+//! rig (`RIG.ron` plus its data sidecar `RIG.data.ron`).
 
 use std::path::Path;
 use std::sync::Arc;
@@ -9,17 +9,26 @@ use sinew_core::Registry;
 
 use crate::io::import_bvh::{import_bvh, BvhImportOptions};
 use crate::io::import_gltf::{import_scene, GltfImportOptions};
+use crate::io::maya::{import_maya_file, MayaImportOptions};
 use crate::io::rig_builder::RigBuilder;
 use crate::io::{parse_bvh, read_gltf};
 
+/// The format-specific flags of `sinew import`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ImportFlags<'a> {
+    /// glTF: the animation to import.
+    pub animation: Option<&'a str>,
+    /// glTF: the rig's frame rate.
+    pub fps: Option<f64>,
+    /// Maya: the length scale.
+    pub scale: Option<f64>,
+    /// Maya: refuse skips that change the rig.
+    pub strict: bool,
+}
+
 /// Runs `sinew import`; returns the summary to print.
-pub fn import(
-    model: &Path,
-    out: &Path,
-    animation: Option<&str>,
-    fps: Option<f64>,
-    registry: &Arc<Registry>,
-) -> Result<String, String> {
+pub fn import(model: &Path, out: &Path, flags: &ImportFlags<'_>, registry: &Arc<Registry>) -> Result<String, String> {
+    let ImportFlags { animation, fps, .. } = *flags;
     super::paths::check_rig_output(&[model], out)?;
     let ext = model
         .extension()
@@ -27,7 +36,34 @@ pub fn import(
         .map(str::to_ascii_lowercase)
         .unwrap_or_default();
     let stem = out.file_stem().and_then(|s| s.to_str()).unwrap_or("rig").to_string();
+    if ext != "ma" && (flags.scale.is_some() || flags.strict) {
+        return Err("--scale and --strict apply to Maya (.ma) files".into());
+    }
     let (rig, warnings): (RigBuilder, Vec<String>) = match ext.as_str() {
+        "ma" => {
+            if animation.is_some() || fps.is_some() {
+                return Err(
+                    "--animation and --fps apply to glTF files; a Maya scene plays at its own time unit".into(),
+                );
+            }
+            let opts = MayaImportOptions {
+                name: Some(stem),
+                scale: flags.scale.unwrap_or(1.0),
+                strict: flags.strict,
+            };
+            let imp = import_maya_file(model, registry, &opts).map_err(|e| e.to_string())?;
+            imp.rig
+                .to_graph(registry)
+                .map_err(|e| format!("internal error: the imported rig does not build: {e}"))?;
+            let data = imp.rig.write(registry, out)?;
+            return Ok(format!(
+                "{} -> {} (data: {})\n{}",
+                model.display(),
+                out.display(),
+                data.display(),
+                imp.report.summary().trim_end()
+            ));
+        }
         "gltf" | "glb" => {
             let scene = read_gltf(model).map_err(|e| format!("{}: {e}", model.display()))?;
             let opts = GltfImportOptions {
@@ -50,7 +86,7 @@ pub fn import(
         }
         _ => {
             return Err(format!(
-                "{}: unknown file type; give a .gltf, .glb or .bvh file",
+                "{}: unknown file type; give a .ma, .gltf, .glb or .bvh file",
                 model.display()
             ))
         }

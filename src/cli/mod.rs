@@ -33,6 +33,7 @@ use clap::{Parser, Subcommand};
 pub use eval_cmd::{apply_overrides, eval, eval_to, parse_plug_value, EvalRequest, Format};
 pub use eval_format::Json;
 pub use frames::{parse_frames, resolve_timing, FrameRange, MAX_FRAME, MAX_FRAMES};
+pub use nodes_cmd::{markdown as nodes_markdown, MARKDOWN_COMMAND};
 pub use output::{CliError, Output};
 
 /// sinew: a Maya-style rig evaluator — check, evaluate and bake rigs written as RON text.
@@ -51,11 +52,17 @@ pub struct Cli {
 enum Command {
     /// List the registered node types and their attributes.
     Nodes {
-        /// Show only this node type.
+        /// Show only this node type (with --rig: this node of the rig, custom attributes included).
         node_type: Option<String>,
         /// Print JSON instead of text.
         #[arg(long)]
         json: bool,
+        /// Print every node type as Markdown (what `docs/nodes.md` holds).
+        #[arg(long, conflicts_with_all = ["json", "node_type", "rig"])]
+        markdown: bool,
+        /// List the attributes of a node of this rig (NODE_TYPE names the node).
+        #[arg(long, value_name = "RIG")]
+        rig: Option<PathBuf>,
     },
     /// Validate a rig: a one-line summary, or every error as file:line:col.
     Check {
@@ -156,9 +163,9 @@ enum Command {
         #[arg(long)]
         lazy: bool,
     },
-    /// Import a glTF (.gltf/.glb) or BVH file as a rig (RIG.ron plus its data file RIG.data.ron).
+    /// Import a Maya ASCII (.ma), glTF (.gltf/.glb) or BVH file as a rig (RIG.ron plus its data file RIG.data.ron).
     Import {
-        /// The model or motion file.
+        /// The scene, model or motion file.
         model: PathBuf,
         /// The rig file to write.
         #[arg(short, long)]
@@ -169,6 +176,12 @@ enum Command {
         /// glTF: the rig's frame rate (default 30; playback is exact at any rate).
         #[arg(long)]
         fps: Option<f64>,
+        /// Maya: multiply every length by this factor (0.01: centimetres to metres).
+        #[arg(long)]
+        scale: Option<f64>,
+        /// Maya: fail when a node type or connection that changes the rig is skipped.
+        #[arg(long)]
+        strict: bool,
     },
     /// Evaluate a rig over frames and write a glTF (.glb or .gltf) with skeleton, skins, morphs and animation.
     Bake {
@@ -186,6 +199,10 @@ enum Command {
         /// The glTF file to write.
         #[arg(short, long)]
         output: PathBuf,
+        /// Bake meshes deformed by deformers glTF cannot express (cluster, nonLinear, ffd,
+        /// deltaMush, wire, wrap...) as one morph target per frame (else: a warning names what is lost).
+        #[arg(long)]
+        bake_deformers_as_morphs: bool,
     },
     /// Retarget a BVH take onto a rig's skeleton and bake the result to glTF.
     Retarget {
@@ -297,7 +314,17 @@ fn execute(cli: Cli, out: &mut Output<'_>) -> Result<(), CliError> {
         rig_cmds::set_load_limits(sinew_core::rig::LoadLimits { max_nodes });
     }
     match cli.command {
-        Command::Nodes { node_type, json } => out.text(&nodes_cmd::render(&registry, node_type.as_deref(), json)?)?,
+        Command::Nodes { markdown: true, .. } => out.text(&nodes_cmd::markdown(&registry))?,
+        Command::Nodes {
+            node_type, json, rig, ..
+        } => match rig {
+            Some(rig) => {
+                let node = node_type.ok_or("--rig needs a node name: sinew nodes NODE --rig RIG.ron")?;
+                let loaded = rig_cmds::load(&rig, &registry)?;
+                out.text(&nodes_cmd::render_node(&loaded.graph, &node, json)?)?
+            }
+            None => out.text(&nodes_cmd::render(&registry, node_type.as_deref(), json)?)?,
+        },
         Command::Check { rig, watch, max_runs } => {
             if watch {
                 rig_cmds::watch(&rig, &registry, max_runs, &mut out.reborrow().eager(true))?;
@@ -367,11 +394,17 @@ fn execute(cli: Cli, out: &mut Output<'_>) -> Result<(), CliError> {
             output,
             animation,
             fps,
+            scale,
+            strict,
         } => out.text(&import_cmd::import(
             &model,
             &output,
-            animation.as_deref(),
-            fps,
+            &import_cmd::ImportFlags {
+                animation: animation.as_deref(),
+                fps,
+                scale,
+                strict,
+            },
             &registry,
         )?)?,
         Command::Bake {
@@ -380,12 +413,14 @@ fn execute(cli: Cli, out: &mut Output<'_>) -> Result<(), CliError> {
             fps,
             tolerance,
             output,
+            bake_deformers_as_morphs,
         } => out.text(&bake_cmd::bake_cmd(
             &rig,
             frames.as_deref(),
             fps,
             tolerance,
             &output,
+            bake_deformers_as_morphs,
             &registry,
         )?)?,
         Command::Retarget {

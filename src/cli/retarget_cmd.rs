@@ -42,6 +42,7 @@ pub fn retarget_cmd(
         fps: report.fps,
         tolerance: 0.0,
         name: "retargeted".into(),
+        deformers_as_morphs: false,
     };
     let (scene, warnings) = bake(&mut graph, &opts)?;
     write_scene(&scene, out)?;

@@ -25,6 +25,9 @@ impl Graph {
                 }
             }
             let spec = data.spec();
+            if data.attrs.len() != spec.attrs.len() || data.groups.len() != spec.groups().len() {
+                return Err(format!("node {} does not match its spec", data.name));
+            }
             for (a, store) in data.attrs.iter().enumerate() {
                 let multi = spec.attrs[a].multi;
                 if !multi && (store.elems.len() != 1 || store.elems[0].index != 0) {

@@ -1,5 +1,6 @@
 //! Graph edits: adding, removing and renaming nodes, and setting input values.
 
+use super::custom_edit::elem_links;
 use super::store::{AttrStore, Elem, GroupState};
 use super::{Graph, NodeData, NodeId, Plug};
 use crate::error::{Error, Result};
@@ -51,6 +52,7 @@ impl Graph {
         let data = NodeData {
             name: name.to_string(),
             type_name: type_name.to_string(),
+            base: kind.clone(),
             kind,
             attrs,
             groups,
@@ -71,25 +73,7 @@ impl Graph {
         for (a, store) in data.attrs.iter().enumerate() {
             for e in &store.elems {
                 let here = Plug::element(id, crate::spec::AttrId(a as u16), data.spec().attrs[a].multi, e.index);
-                if let Some(s) = e.source {
-                    links.push((s, here));
-                }
-                if let Some(cs) = &e.comp_sources {
-                    for (k, s) in cs.iter().enumerate() {
-                        if let Some(s) = s {
-                            links.push((*s, here.component(k as u8)));
-                        }
-                    }
-                }
-                for d in &e.dests {
-                    links.push((
-                        Plug {
-                            component: None,
-                            ..here
-                        },
-                        *d,
-                    ));
-                }
+                links.extend(elem_links(here, e));
             }
         }
         let children: Vec<NodeId> = self
@@ -164,6 +148,15 @@ impl Graph {
             return Err(Error::NonFinite {
                 plug: self.plug_name(plug),
             });
+        }
+        if let (None, Some(x)) = (plug.component, value.as_f64()) {
+            if let Some(reason) = a.out_of_range(x) {
+                return Err(Error::OutOfRange {
+                    plug: self.plug_name(plug),
+                    value: x,
+                    reason,
+                });
+            }
         }
         if let Some(e) = data.attrs[plug.attr.index()]
             .find(plug.elem())
@@ -287,21 +280,7 @@ impl Graph {
         let Some(k) = store.find(index) else {
             return Ok(());
         };
-        let e = &store.elems[k];
-        let mut links = Vec::new();
-        if let Some(s) = e.source {
-            links.push((s, plug));
-        }
-        if let Some(cs) = &e.comp_sources {
-            for (c, s) in cs.iter().enumerate() {
-                if let Some(s) = s {
-                    links.push((*s, plug.component(c as u8)));
-                }
-            }
-        }
-        for d in &e.dests {
-            links.push((plug, *d));
-        }
+        let links = elem_links(plug, &store.elems[k]);
         for (s, d) in links {
             self.unlink(s, d);
         }

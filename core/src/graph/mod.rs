@@ -8,6 +8,7 @@
 
 mod check;
 mod connect;
+mod custom_edit;
 mod edit;
 mod eval;
 mod order;
@@ -110,7 +111,11 @@ impl Plug {
 pub(crate) struct NodeData {
     pub name: String,
     pub type_name: String,
+    /// The node's type: `base`, or a [`crate::CustomNode`] over it when the node has
+    /// custom attributes.
     pub kind: Arc<dyn NodeType>,
+    /// The registered node type.
+    pub base: Arc<dyn NodeType>,
     pub attrs: Vec<AttrStore>,
     pub groups: Vec<GroupState>,
     pub parent: Option<NodeId>,
@@ -358,3 +363,5 @@ impl Graph {
 
 #[cfg(test)]
 pub(crate) mod tests;
+#[cfg(test)]
+mod tests_custom;

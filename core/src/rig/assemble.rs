@@ -14,7 +14,15 @@ use crate::registry::Registry;
 use crate::spec::AttrId;
 use crate::value::AttrType;
 
-fn resolve(graph: &Graph, path: &str, span: &Span, broken: &HashSet<&str>, diags: &mut Diagnostics) -> Option<Plug> {
+/// Names a reference may miss without an error of its own: nodes of `Use`s in error,
+/// and (with `opaque`) any unknown node, counted in `hidden`.
+struct Quiet<'a> {
+    broken: HashSet<&'a str>,
+    opaque: bool,
+    hidden: &'a mut usize,
+}
+
+fn resolve(graph: &Graph, path: &str, span: &Span, quiet: &mut Quiet<'_>, diags: &mut Diagnostics) -> Option<Plug> {
     let parts = match parse_plug_path(path) {
         Ok(p) => p,
         Err(e) => {
@@ -25,11 +33,15 @@ fn resolve(graph: &Graph, path: &str, span: &Span, broken: &HashSet<&str>, diags
             return None;
         }
     };
-    if broken.contains(parts.node) {
+    if quiet.broken.contains(parts.node) {
         return None;
     }
     match graph.plug(path) {
         Ok(p) => Some(p),
+        Err(Error::UnknownNode { .. }) if quiet.opaque => {
+            *quiet.hidden += 1;
+            None
+        }
         Err(Error::UnknownNode { name, suggestion }) => {
             let hint = match suggestion {
                 Some(s) => format!("did you mean `{s}`?"),
@@ -101,10 +113,14 @@ fn node_order(nodes: &[NodeId], edges: impl Iterator<Item = (NodeId, NodeId)>) -
     post
 }
 
-pub(super) fn build_graph(flat: &Flat, registry: &Arc<Registry>, diags: &mut Diagnostics) -> Graph {
+pub(super) fn build_graph(flat: &Flat, registry: &Arc<Registry>, diags: &mut Diagnostics, hidden: &mut usize) -> Graph {
     let mut g = Graph::new(registry.clone());
     let mut first: HashMap<&str, &FlatNode> = HashMap::new();
-    let mut broken: HashSet<&str> = HashSet::new();
+    let mut quiet = Quiet {
+        broken: flat.suppressed.iter().map(String::as_str).collect(),
+        opaque: flat.opaque.is_some(),
+        hidden,
+    };
     let mut ids: Vec<Option<NodeId>> = Vec::with_capacity(flat.nodes.len());
     for n in &flat.nodes {
         let at = n.via.clone().unwrap_or_else(|| n.span.clone());
@@ -118,12 +134,19 @@ pub(super) fn build_graph(flat: &Flat, registry: &Arc<Registry>, diags: &mut Dia
         }
         first.insert(&n.name, n);
         if n.kind.is_none() {
-            broken.insert(&n.name);
+            quiet.broken.insert(&n.name);
             ids.push(None);
             continue;
         }
         match g.add_node(&n.type_name, &n.name) {
-            Ok(id) => ids.push(Some(id)),
+            Ok(id) => {
+                for (decl, span) in &n.custom {
+                    if let Err(e) = g.add_attr(id, decl.clone()) {
+                        diags.push(Diagnostic::new(span.clone(), e.to_string()).hint("check the declaration"));
+                    }
+                }
+                ids.push(Some(id))
+            }
             Err(e) => {
                 let mut d = Diagnostic::new(n.span.clone(), e.to_string())
                     .hint("node names are letters, digits and '_', not starting with a digit");
@@ -131,7 +154,7 @@ pub(super) fn build_graph(flat: &Flat, registry: &Arc<Registry>, diags: &mut Dia
                     d = d.note(v.clone(), "created by this Use");
                 }
                 diags.push(d);
-                broken.insert(&n.name);
+                quiet.broken.insert(&n.name);
                 ids.push(None);
             }
         }
@@ -142,8 +165,8 @@ pub(super) fn build_graph(flat: &Flat, registry: &Arc<Registry>, diags: &mut Dia
         .iter()
         .map(|c| {
             (
-                resolve(&g, &c.src, &c.src_span, &broken, diags),
-                resolve(&g, &c.dst, &c.dst_span, &broken, diags),
+                resolve(&g, &c.src, &c.src_span, &mut quiet, diags),
+                resolve(&g, &c.dst, &c.dst_span, &mut quiet, diags),
             )
         })
         .collect();
@@ -198,10 +221,14 @@ pub(super) fn build_graph(flat: &Flat, registry: &Arc<Registry>, diags: &mut Dia
         let (Some(id), Some((p, pspan))) = (*id, &n.parent) else {
             continue;
         };
-        if broken.contains(p.as_str()) {
+        if quiet.broken.contains(p.as_str()) {
             continue;
         }
         let Some(pid) = g.find_node(p) else {
+            if quiet.opaque {
+                *quiet.hidden += 1;
+                continue;
+            }
             let hint = match nearest(p, first.keys().copied()) {
                 Some(s) => format!("did you mean `{s}`?"),
                 None => "parent names a node of this rig".into(),

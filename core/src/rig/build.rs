@@ -18,6 +18,7 @@ use super::mirror::{mirror_value, MirrorContext};
 use super::parse::{parse, Ast, Node};
 use super::source::{normalize, FsSource, RigSource};
 use super::typed::{example, read_value};
+use crate::custom::CustomNode;
 use crate::error::nearest;
 use crate::graph::{Graph, MAX_ELEMENT_INDEX};
 use crate::node::{NodeType, Time};
@@ -50,6 +51,8 @@ pub(crate) struct RecNode {
     pub type_name: String,
     pub parent: Option<String>,
     pub values: Vec<(AttrId, Option<u32>, Value)>,
+    /// Custom attributes the use declared on the node.
+    pub custom: Vec<AttrSpec>,
 }
 
 /// What one top-level `Use` created: nodes and (canonical) connections.
@@ -77,6 +80,8 @@ pub(super) struct FlatNode {
     /// elements of a large multi one by one is linear.
     pub(super) value_index: HashMap<(AttrId, Option<u32>), usize>,
     pub(super) via: Option<Span>,
+    /// Custom attributes (`attrs: {..}`), each with its position; `kind` already has them.
+    pub(super) custom: Vec<(AttrSpec, Span)>,
 }
 
 #[derive(Clone)]
@@ -91,6 +96,19 @@ pub(super) struct FlatConn {
 pub(super) struct Flat {
     pub(super) nodes: Vec<FlatNode>,
     pub(super) conns: Vec<FlatConn>,
+    /// Names a `Use` in error would have created: references to them report nothing
+    /// more (the `Use`'s own error is the cause).
+    pub(super) suppressed: HashSet<String>,
+    /// A `Use` whose file or component is missing (the index of that error): it defines
+    /// names nobody knows, so references to unknown nodes are counted, not reported.
+    pub(super) opaque: Option<usize>,
+}
+
+impl Flat {
+    fn absorb(&mut self, other: &Flat) {
+        self.suppressed.extend(other.suppressed.iter().cloned());
+        self.opaque = self.opaque.or(other.opaque);
+    }
 }
 
 struct FileDoc {
@@ -128,8 +146,13 @@ struct Expander<'a> {
     created: usize,
     /// The node limit was passed: expansion stops.
     over_limit: bool,
+    /// The root rig's path and text (given to the loader, not read through `source`).
+    root: (Arc<Path>, &'a str),
     diags: Diagnostics,
-    files: HashMap<PathBuf, Option<Rc<FileDoc>>>,
+    /// Files read: the document, or the index of the error that reading it gave.
+    files: HashMap<PathBuf, Result<Rc<FileDoc>, usize>>,
+    /// References to unknown nodes not reported because of an opaque `Use`.
+    hidden: usize,
     deps: Vec<PathBuf>,
     /// Values read from `File("...")` references, with the file (see `RigDocument`).
     file_values: std::cell::RefCell<Vec<(Value, PathBuf)>>,
@@ -180,7 +203,7 @@ impl<'a> Expander<'a> {
         }
     }
 
-    fn load_file(&mut self, path: &Path, at: &Span) -> Option<Rc<FileDoc>> {
+    fn load_file(&mut self, path: &Path, at: &Span) -> Result<Rc<FileDoc>, usize> {
         let key = normalize(path);
         if let Some(c) = self.files.get(&key) {
             return c.clone();
@@ -189,26 +212,34 @@ impl<'a> Expander<'a> {
         let text = match self.source.read(&key) {
             Ok(t) => t,
             Err(e) => {
+                let dir = key.parent().unwrap_or(Path::new(""));
+                let wanted = key.file_name().and_then(|f| f.to_str()).unwrap_or("");
+                let names = self.source.file_names(dir);
+                let hint = match nearest(wanted, names.iter().map(String::as_str).filter(|n| *n != wanted)) {
+                    Some(s) => format!("did you mean `{s}`? file paths are relative to the file that uses them"),
+                    None => "file paths are relative to the file that uses them".to_string(),
+                };
                 self.diags.push(
                     Diagnostic::new(
                         at.clone(),
                         format!("cannot read component file `{}`: {e}", key.display()),
                     )
-                    .hint("file paths are relative to the file that uses them"),
+                    .hint(hint),
                 );
-                self.files.insert(key, None);
-                return None;
+                let r = Err(self.diags.len() - 1);
+                self.files.insert(key, r.clone());
+                return r;
             }
         };
         let fpath: Arc<Path> = Arc::from(key.as_path());
         let fd = match parse(&text, &fpath) {
             Ok(root) => {
                 let doc = read_document(&root, &fpath, &mut self.diags);
-                Some(Rc::new(FileDoc { path: fpath, doc }))
+                Ok(Rc::new(FileDoc { path: fpath, doc }))
             }
             Err(d) => {
                 self.diags.push(d);
-                None
+                Err(self.diags.len() - 1)
             }
         };
         self.files.insert(key, fd.clone());
@@ -359,9 +390,132 @@ impl<'a> Expander<'a> {
             return;
         }
         match self.read_attr_value(value, a.ty, Some(&a), &what) {
-            Ok(v) => Self::put(node, attr, None, None, v, value.span.clone()),
+            Ok(v) => match node.kind.as_ref().map(|k| k.check_input(k.spec(), attr, &v)) {
+                Some(Err(e)) => {
+                    let span = e
+                        .offset
+                        .map_or(value.span.clone(), |off| self.span_in_string(value, off));
+                    let mut d = Diagnostic::new(span, format!("{what}: {}", e.message));
+                    if let Some(h) = e.hint {
+                        d = d.hint(h);
+                    }
+                    self.diags.push(d);
+                }
+                _ => Self::put(node, attr, None, None, v, value.span.clone()),
+            },
             Err(d) => self.diags.push(d),
         }
+    }
+
+    /// The file position of byte `offset` of the string value written at `lit` (a `".."`
+    /// or raw `r#".."#` literal): the file is read again and the literal walked, escapes
+    /// included. Falls back to the literal's own position when the text cannot be read.
+    fn span_in_string(&self, lit: &Node, offset: usize) -> Span {
+        let fallback = lit.span.clone();
+        let text = if lit.span.file == self.root.0 {
+            self.root.1.to_string()
+        } else {
+            match self.source.read(&lit.span.file) {
+                Ok(t) => t,
+                Err(_) => return fallback,
+            }
+        };
+        let target = lit.span.line.saturating_sub(1) as usize;
+        let mut line_start = 0;
+        let mut this_line = None;
+        for (i, l) in text.split_inclusive('\n').enumerate() {
+            if i == target {
+                this_line = Some(l);
+                break;
+            }
+            line_start += l.len();
+        }
+        let Some((col_off, _)) = this_line.and_then(|l| l.char_indices().nth(lit.span.col.saturating_sub(1) as usize))
+        else {
+            return fallback;
+        };
+        let mut src = text[line_start + col_off..].chars().peekable();
+        let (mut line, mut col) = (lit.span.line, lit.span.col);
+        let step = |c: char, line: &mut u32, col: &mut u32| {
+            if c == '\n' {
+                *line += 1;
+                *col = 1;
+            } else {
+                *col += 1;
+            }
+        };
+        // The opening delimiter: `"` or `r`, `#`s, `"`.
+        let raw = src.peek() == Some(&'r');
+        for c in src.by_ref() {
+            step(c, &mut line, &mut col);
+            if c == '"' {
+                break;
+            }
+        }
+        let mut produced = 0usize;
+        while produced < offset {
+            let (line0, col0) = (line, col);
+            let Some(c) = src.next() else { return fallback };
+            step(c, &mut line, &mut col);
+            if c == '\\' && !raw {
+                // An escape: `\u{..}` or one character stand for one character of the value.
+                let Some(e) = src.next() else { return fallback };
+                step(e, &mut line, &mut col);
+                let ch = if e == 'u' {
+                    let mut hex = String::new();
+                    for h in src.by_ref() {
+                        step(h, &mut line, &mut col);
+                        if h == '}' {
+                            break;
+                        }
+                        if h != '{' {
+                            hex.push(h);
+                        }
+                    }
+                    u32::from_str_radix(&hex, 16)
+                        .ok()
+                        .and_then(char::from_u32)
+                        .unwrap_or('?')
+                } else {
+                    e
+                };
+                produced += ch.len_utf8();
+            } else {
+                produced += c.len_utf8();
+            }
+            if produced > offset {
+                return Span {
+                    line: line0,
+                    col: col0,
+                    ..fallback
+                };
+            }
+        }
+        Span { line, col, ..fallback }
+    }
+
+    /// Reads `attrs: {..}` into the node: each declaration is checked against the node's
+    /// type (name clashes, the type's acceptance) and the node's type gets the valid ones,
+    /// so its other fields may set them.
+    fn custom_attrs(&mut self, node: &mut FlatNode, v: &Node) {
+        let decls = super::custom_decl::read_attrs(v, &mut self.diags);
+        let Some(base) = node.kind.clone() else { return };
+        let mut ok: Vec<(AttrSpec, Span)> = Vec::new();
+        for (d, span) in decls {
+            let mut trial: Vec<AttrSpec> = ok.iter().map(|(a, _)| a.clone()).collect();
+            trial.push(d.clone());
+            match CustomNode::new(base.clone(), &trial) {
+                Ok(kind) => {
+                    node.kind = Some(Arc::new(kind));
+                    ok.push((d, span));
+                }
+                Err(e) => self.diags.push(
+                    Diagnostic::new(span, format!("custom attribute `{}`: {}", d.name, e.message))
+                        .hint(format!("`sinew nodes {}` lists the type's attributes", node.type_name)),
+                ),
+            }
+        }
+        node.custom = ok;
     }
 
     fn flat_node(&mut self, n: &NodeDecl) -> FlatNode {
@@ -383,9 +537,15 @@ impl<'a> Expander<'a> {
             values: Vec::new(),
             value_index: HashMap::new(),
             via: None,
+            custom: Vec::new(),
         };
+        if let Some((_, _, v)) = n.fields.iter().find(|f| f.0 == "attrs") {
+            self.custom_attrs(&mut node, v);
+        }
         for (f, fs, v) in &n.fields {
-            self.field(&mut node, f, fs, v);
+            if f != "attrs" {
+                self.field(&mut node, f, fs, v);
+            }
         }
         node
     }
@@ -404,6 +564,13 @@ impl<'a> Expander<'a> {
                 }
             };
             let Some(k) = flat.nodes.iter().position(|n| n.name == parts.node) else {
+                if flat.suppressed.contains(parts.node) {
+                    continue;
+                }
+                if flat.opaque.is_some() {
+                    self.hidden += 1;
+                    continue;
+                }
                 let hint = nearest(parts.node, flat.nodes.iter().map(|n| n.name.as_str()))
                     .map(|s| format!("did you mean `{s}`?"))
                     .unwrap_or_else(|| "overrides refer to nodes by name".into());
@@ -485,6 +652,11 @@ impl<'a> Expander<'a> {
                 return flat;
             }
             let sub = self.expand_use(u, scope, stack);
+            flat.absorb(&sub);
+            if u.broken {
+                flat.suppressed.extend(sub.nodes.into_iter().map(|n| n.name));
+                continue;
+            }
             if let Some(r) = records.as_deref_mut() {
                 r.push(UseRecord {
                     nodes: sub
@@ -495,6 +667,7 @@ impl<'a> Expander<'a> {
                             type_name: n.type_name.clone(),
                             parent: n.parent.as_ref().map(|p| p.0.clone()),
                             values: n.values.iter().map(|v| (v.attr, v.index, v.value.clone())).collect(),
+                            custom: n.custom.iter().map(|c| c.0.clone()).collect(),
                         })
                         .collect(),
                     connections: sub.conns.iter().map(|c| (c.src.clone(), c.dst.clone())).collect(),
@@ -557,8 +730,13 @@ impl<'a> Expander<'a> {
             Some((f, fspan)) => {
                 let dir = scope.path.parent().unwrap_or(Path::new(""));
                 match self.load_file(&dir.join(f), fspan) {
-                    Some(fd) => fd,
-                    None => return Flat::default(),
+                    Ok(fd) => fd,
+                    Err(cause) => {
+                        return Flat {
+                            opaque: Some(cause),
+                            ..Flat::default()
+                        }
+                    }
                 }
             }
             None => scope.clone(),
@@ -578,7 +756,10 @@ impl<'a> Expander<'a> {
                         )
                         .hint(hint),
                     );
-                    return Flat::default();
+                    return Flat {
+                        opaque: Some(self.diags.len() - 1),
+                        ..Flat::default()
+                    };
                 }
             },
             None => (target_scope.path.display().to_string(), target_scope.doc.body.clone()),
@@ -660,6 +841,15 @@ impl<'a> Expander<'a> {
                         }
                     }
                 }
+                // A custom vector's declared default is mirrored like an authored value
+                // (the declaration is the same on both sides).
+                for id in spec.attr_ids().filter(|&id| spec.is_custom(id)) {
+                    let a = spec.attr(id);
+                    if a.mirror != MirrorRole::None && !a.multi && !node.values.iter().any(|v| v.attr == id) {
+                        let span = node.span.clone();
+                        Self::put(node, id, None, None, a.default.clone(), span);
+                    }
+                }
                 let cx = MirrorContext {
                     plane,
                     child,
@@ -696,6 +886,7 @@ impl<'a> Expander<'a> {
             c.src = map_node_part(&c.src, &map);
             c.dst = map_node_part(&c.dst, &map);
         }
+        flat.suppressed = flat.suppressed.iter().map(|n| map(n)).collect();
         flat
     }
 }
@@ -764,8 +955,10 @@ pub fn load_rig_with_limits(
         limits,
         created: 0,
         over_limit: false,
+        root: (fpath.clone(), text),
         diags: Diagnostics::default(),
         files: HashMap::new(),
+        hidden: 0,
         deps: vec![key.clone()],
         file_values: Default::default(),
     };
@@ -775,7 +968,7 @@ pub fn load_rig_with_limits(
         path: fpath.clone(),
         doc,
     });
-    exp.files.insert(key.clone(), Some(scope.clone()));
+    exp.files.insert(key.clone(), Ok(scope.clone()));
     let mut records = Vec::new();
     let mut stack = vec![(fpath.display().to_string(), Span::new(&fpath, 1, 1))];
     let body = scope.doc.body.clone();
@@ -785,16 +978,33 @@ pub fn load_rig_with_limits(
         diags.finish();
         return Err(diags);
     }
-    let graph = super::assemble::build_graph(&flat, registry, &mut diags);
+    let mut hidden = exp.hidden;
+    let graph = super::assemble::build_graph(&flat, registry, &mut diags, &mut hidden);
+    if let Some(cause) = flat.opaque.filter(|_| hidden > 0) {
+        if let Some(d) = diags.errors.get_mut(cause) {
+            let note = d.span.clone();
+            *d = d.clone().note(
+                note,
+                format!(
+                    "{hidden} reference{} to nodes not found {} not reported: the nodes this Use would create may include them",
+                    if hidden == 1 { "" } else { "s" },
+                    if hidden == 1 { "is" } else { "are" }
+                ),
+            );
+        }
+    }
     let files = exp.deps.clone();
     let file_values = exp.file_values.take();
     drop(exp);
     let mut doc = Rc::try_unwrap(scope).map(|f| f.doc).unwrap_or_else(|rc| rc.doc.clone());
+    let mut graph = graph;
+    if diags.is_empty() {
+        super::checks::report(&flat, &mut graph, &mut diags);
+    }
     if !diags.is_empty() {
         diags.finish();
         return Err(diags);
     }
-    let mut graph = graph;
     // Canonical names for the connections each use made.
     for r in &mut records {
         r.connections = r
@@ -809,6 +1019,7 @@ pub fn load_rig_with_limits(
             .collect();
     }
     doc.records = records;
+    doc.syntax = Some(root);
     doc.file_values = file_values;
     super::canon::long_names(&mut doc, &graph, registry);
     if doc.fps.is_some() || doc.frames.is_some() {

@@ -76,6 +76,9 @@ pub struct UseDecl {
     pub mirror: Option<Plane>,
     /// Per-use values, by the component's own node names (applied before mirroring).
     pub set: Vec<SetDecl>,
+    /// A field of this `Use` is in error: the loader creates none of its nodes and
+    /// suppresses the errors that only follow from their absence.
+    pub broken: bool,
 }
 
 impl UseDecl {
@@ -135,6 +138,9 @@ pub struct RigDocument {
     /// referenced file (normalized path), so [`save_rig`](super::save_rig) writes the
     /// reference back instead of the data while the value is unchanged.
     pub(crate) file_values: Vec<(Value, PathBuf)>,
+    /// Filled by the loader: the file's syntax tree with its comments, which
+    /// [`save_rig`](super::save_rig) carries over to the canonical text.
+    pub(crate) syntax: Option<super::parse::Node>,
 }
 
 impl RigDocument {
@@ -440,7 +446,13 @@ impl Reader<'_> {
         };
         let mut out = Vec::new();
         for e in entries {
-            if !matches!(&e.kind, Ast::Group { name: Some(n), .. } if n == "Use") {
+            // `Use(..)` or, as RON allows for any struct, the unnamed `(..)`.
+            let is_use = match &e.kind {
+                Ast::Group { name: Some(n), .. } => n == "Use",
+                Ast::Group { name: None, items } => items.iter().all(|i| i.key.is_some()),
+                _ => false,
+            };
+            if !is_use {
                 self.err(
                     &e.span,
                     format!("expected `Use(..)`, found {}", e.kind.describe()),
@@ -456,29 +468,16 @@ impl Reader<'_> {
                 rename: None,
                 mirror: None,
                 set: Vec::new(),
+                broken: false,
             };
+            let errors_before = self.diags.len();
             for (k, ks, v) in self.fields(e, &USE_FIELDS, "Use") {
                 match k {
                     "component" => u.component = self.string(v, "component").map(|s| (s, v.span.clone())),
                     "file" => u.file = self.string(v, "file").map(|s| (s, v.span.clone())),
                     "prefix" => u.prefix = self.string(v, "prefix").unwrap_or_default(),
                     "rename" => u.rename = self.rename(v),
-                    "mirror" => {
-                        u.mirror = match &v.kind {
-                            Ast::Bool(true) => Some(Plane::YZ),
-                            Ast::Bool(false) => None,
-                            Ast::Ident(s) | Ast::Str { value: s, .. } if s == "None" => None,
-                            Ast::Ident(s) | Ast::Str { value: s, .. } if Plane::parse(s).is_some() => Plane::parse(s),
-                            other => {
-                                self.err(
-                                    &v.span,
-                                    format!("mirror must be YZ, XY, XZ or false, found {}", other.describe()),
-                                    "mirror: YZ mirrors left to right (negates X)",
-                                );
-                                None
-                            }
-                        }
-                    }
+                    "mirror" => u.mirror = self.mirror(v),
                     "set" => u.set = self.sets(v, "set"),
                     _ => {}
                 }
@@ -492,9 +491,34 @@ impl Reader<'_> {
                 );
                 continue;
             }
+            u.broken = self.diags.len() > errors_before;
             out.push(u);
         }
         out
+    }
+
+    /// `mirror: YZ` (`XY`, `XZ`, `true` for YZ, `false`/`None` for none), also as RON
+    /// writes an option: `Some(YZ)`.
+    fn mirror(&mut self, v: &Node) -> Option<Plane> {
+        match &v.kind {
+            Ast::Bool(true) => Some(Plane::YZ),
+            Ast::Bool(false) => None,
+            Ast::Ident(s) | Ast::Str { value: s, .. } if s == "None" => None,
+            Ast::Ident(s) | Ast::Str { value: s, .. } if Plane::parse(s).is_some() => Plane::parse(s),
+            Ast::Group { name: Some(n), items } if n == "Some" && items.len() == 1 && items[0].key.is_none() => {
+                self.mirror(&items[0].value)
+            }
+            other => {
+                self.err(
+                    &v.span,
+                    format!("mirror must be YZ, XY, XZ or false, found {}", other.describe()),
+                    "mirror: YZ mirrors left to right (negates X)",
+                );
+                // The Use is broken (creates nothing); a mirror was meant, so its names
+                // are the mirrored ones (`_L` -> `_R`), whose references are suppressed.
+                Some(Plane::YZ)
+            }
+        }
     }
 
     fn rename(&mut self, v: &Node) -> Option<Vec<(String, String)>> {

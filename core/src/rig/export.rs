@@ -34,7 +34,11 @@ pub fn to_dot(graph: &Graph) -> String {
         let (Some(n), Some(t)) = (graph.node_name(id), graph.node_type(id)) else {
             continue;
         };
-        let _ = writeln!(out, "    {} [label={}];", q(n), q(&format!("{n}\n{t}")));
+        let mut label = format!("{n}\n{t}");
+        for a in graph.custom_attrs(id) {
+            let _ = write!(label, "\n+ {}: {}{}", a.name, a.ty, if a.multi { "[]" } else { "" });
+        }
+        let _ = writeln!(out, "    {} [label={}];", q(n), q(&label));
     }
     for id in graph.nodes() {
         if let (Some(p), Some(n)) = (
@@ -59,8 +63,9 @@ pub fn to_dot(graph: &Graph) -> String {
     out
 }
 
-/// JSON: `{"nodes": [{"name", "type", "parent"}], "connections": [{"src", "dst"}]}`
-/// with parenting links left out of `connections`.
+/// JSON: `{"nodes": [{"name", "type", "parent", "attrs"?}], "connections": [{"src",
+/// "dst"}]}` with parenting links left out of `connections`; `attrs` lists a node's custom
+/// attributes (name, type, direction, default, multi, keyable, limits, enum names).
 pub fn to_json(graph: &Graph) -> String {
     let mut out = String::from("{\n  \"nodes\": [");
     for (i, id) in graph.nodes().into_iter().enumerate() {
@@ -73,6 +78,44 @@ pub fn to_json(graph: &Graph) -> String {
         match graph.parent_of(id).and_then(|p| graph.node_name(p)) {
             Some(p) => json_str(&mut out, p),
             None => out.push_str("null"),
+        }
+        let custom = graph.custom_attrs(id);
+        if !custom.is_empty() {
+            out.push_str(", \"attrs\": [");
+            for (k, a) in custom.iter().enumerate() {
+                out.push_str(if k == 0 { "{" } else { ", {" });
+                out.push_str("\"name\": ");
+                json_str(&mut out, &a.name);
+                out.push_str(", \"type\": ");
+                json_str(&mut out, a.ty.name());
+                out.push_str(", \"direction\": ");
+                json_str(&mut out, if a.is_input() { "input" } else { "output" });
+                out.push_str(", \"default\": ");
+                json_str(&mut out, &a.default.to_string());
+                let _ = write!(out, ", \"multi\": {}, \"keyable\": {}", a.multi, a.keyable);
+                for (key, x) in [
+                    ("min", a.min),
+                    ("max", a.max),
+                    ("softMin", a.soft_min),
+                    ("softMax", a.soft_max),
+                ] {
+                    if let Some(x) = x {
+                        let _ = write!(out, ", \"{key}\": {x:?}");
+                    }
+                }
+                if !a.enum_names.is_empty() {
+                    out.push_str(", \"enum\": [");
+                    for (i, e) in a.enum_names.iter().enumerate() {
+                        if i > 0 {
+                            out.push_str(", ");
+                        }
+                        json_str(&mut out, e);
+                    }
+                    out.push(']');
+                }
+                out.push('}');
+            }
+            out.push(']');
         }
         out.push('}');
     }

@@ -1,14 +1,16 @@
 //! RON rig files: load with precise errors, components with mirroring,
 //! canonical save. The format is documented in `docs/rig-format.md`.
 //!
-//! - [`parse`]: a small RON parser keeping line/column for every value.
+//! - [`parse`]: a RON parser keeping line/column and comments for every value
+//!   ([`lex`]: RON's lexical rules, as the `ron` crate has them).
 //! - [`doc`]: the document model (what a file says) and canonical printing
 //!   (`doc_print`).
 //! - [`typed`]: attribute values read and written by their declared type.
 //! - [`mirror`]: Maya mirrorJoint *behavior* mirroring of authored values.
 //! - `build`: component expansion and graph building, collecting all errors;
 //!   `source`: where files come from ([`RigSource`]).
-//! - `save`: graph to canonical text, and [`graph_eq`] for round-trip tests.
+//! - `save`: graph to canonical text, and [`graph_eq`] for round-trip tests;
+//!   `fmt_comments` carries the file's comments over to it and `fmt_print` lays it out.
 //! - [`diag`]: `file:line:col: error: message` diagnostics with hints.
 //!
 //! Invariants: a failed load returns every error it found and no graph;
@@ -18,10 +20,17 @@
 mod assemble;
 mod build;
 mod canon;
+mod checks;
+#[doc(hidden)]
+pub mod comment_check;
+mod custom_decl;
 pub mod diag;
 pub mod doc;
 mod doc_print;
 mod export;
+mod fmt_comments;
+mod fmt_print;
+pub mod lex;
 pub mod mirror;
 pub mod parse;
 mod save;
@@ -31,11 +40,19 @@ pub mod typed;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
+mod tests_comments;
+#[cfg(test)]
+mod tests_custom;
+#[cfg(test)]
+mod tests_errors;
+#[cfg(test)]
 mod tests_fuzz;
 #[cfg(test)]
 mod tests_limits;
 #[cfg(test)]
 mod tests_names;
+#[cfg(test)]
+mod tests_ron;
 
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};

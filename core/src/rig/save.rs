@@ -12,8 +12,10 @@
 use std::collections::{HashMap, HashSet};
 use std::path::Path;
 
+use super::custom_decl::write_attrs;
 use super::doc::{print_document, PrintBody, PrintNode, RigDocument};
-use super::parse::Ast;
+use super::fmt_comments::Ids;
+use super::parse::{Ast, Node};
 use super::typed::{synth, write_value};
 use crate::graph::{Graph, NodeId, Plug};
 use crate::spec::{AttrId, AttrSpec};
@@ -153,7 +155,10 @@ pub fn save_rig(graph: &Graph, doc: &RigDocument) -> String {
                 break;
             };
             let parent = graph.parent_of(id).and_then(|p| graph.node_name(p));
-            if graph.node_type(id) != Some(rn.type_name.as_str()) || parent != rn.parent.as_deref() {
+            if graph.node_type(id) != Some(rn.type_name.as_str())
+                || parent != rn.parent.as_deref()
+                || !same_decls(graph.custom_attrs(id), &rn.custom)
+            {
                 ok = false;
                 break;
             }
@@ -215,6 +220,9 @@ pub fn save_rig(graph: &Graph, doc: &RigDocument) -> String {
         };
         let mut fields: Vec<(String, Ast)> = Vec::new();
         for attr in spec.attr_ids() {
+            if attr == spec.first_custom() {
+                fields.push(("attrs".to_string(), write_attrs(spec.custom_attrs())));
+            }
             let a = spec.attr(attr);
             if !a.is_input() {
                 continue;
@@ -300,12 +308,26 @@ pub fn save_rig(graph: &Graph, doc: &RigDocument) -> String {
     }
     set.sort_by(|a, b| (a.0, &a.1).cmp(&(b.0, &b.1)));
 
-    let mut connections: Vec<(usize, String, String)> = conns
+    // Connections the file wrote keep its order (and so its grouping and comments);
+    // new ones follow, by destination node order.
+    let ids = GraphIds(graph);
+    let written: HashMap<String, usize> = doc
+        .body
+        .connections
+        .iter()
+        .enumerate()
+        .map(|(i, c)| (ids.conn(&c.src, &c.dst), i))
+        .collect();
+    let mut connections: Vec<((usize, usize), String, String)> = conns
         .iter()
         .filter(|c| !rec_conns.contains(&(c.2.as_str(), c.3.as_str())))
         .map(|c| {
+            let at = written
+                .get(&format!("{} -> {}", c.2, c.3))
+                .copied()
+                .unwrap_or(usize::MAX);
             (
-                rank.get(&c.1.node).copied().unwrap_or(usize::MAX),
+                (at, rank.get(&c.1.node).copied().unwrap_or(usize::MAX)),
                 c.2.clone(),
                 c.3.clone(),
             )
@@ -319,10 +341,69 @@ pub fn save_rig(graph: &Graph, doc: &RigDocument) -> String {
         connections: connections.into_iter().map(|(_, s, d)| (s, d)).collect(),
         set: set.into_iter().map(|(_, p, v)| (p, v)).collect(),
     };
-    print_document(doc, &body)
+    let text = print_document(doc, &body);
+    match &doc.syntax {
+        Some(orig) => with_comments(&text, orig, graph),
+        None => text,
+    }
 }
 
-/// Compares two graphs: node names, types and parents, authored input
+/// Names entries of the file as written the way the canonical text names them,
+/// through the loaded graph.
+struct GraphIds<'g>(&'g Graph);
+
+impl GraphIds<'_> {
+    fn canonical(&self, path: &str) -> String {
+        self.0
+            .plug(path)
+            .map(|p| self.0.plug_name(p))
+            .unwrap_or_else(|_| path.to_string())
+    }
+}
+
+impl Ids for GraphIds<'_> {
+    fn field(&self, node_type: &str, field: &str) -> (String, Option<String>) {
+        let spec = self.0.registry().get(node_type).map(|t| t.spec());
+        match spec.and_then(|s| Some((s, s.find(field)?))) {
+            Some((s, (attr, comp))) => {
+                let a = s.attr(attr);
+                let long = match (comp, &a.children) {
+                    (Some(k), Some(ch)) => ch[k as usize].clone(),
+                    _ => a.name.clone(),
+                };
+                (long, Some(a.name.clone()))
+            }
+            None => (field.to_string(), None),
+        }
+    }
+
+    fn conn(&self, src: &str, dst: &str) -> String {
+        format!("{} -> {}", self.canonical(src), self.canonical(dst))
+    }
+
+    fn set_path(&self, path: &str) -> String {
+        self.canonical(path)
+    }
+}
+
+/// The canonical `text` with the comments of the file as written (`orig`) carried
+/// over ([`fmt_comments`](super::fmt_comments)); `text` itself if it does not parse
+/// (it always does: it is what the printer wrote).
+fn with_comments(text: &str, orig: &Node, graph: &Graph) -> String {
+    let file: std::sync::Arc<Path> = std::sync::Arc::from(Path::new("canonical.ron"));
+    let Ok(mut tree) = super::parse::parse(text, &file) else {
+        return text.to_string();
+    };
+    super::fmt_comments::transfer(orig, &mut tree, &GraphIds(graph));
+    super::fmt_print::print_file(&tree)
+}
+
+/// Whether two lists of custom attribute declarations say the same.
+fn same_decls(a: &[AttrSpec], b: &[AttrSpec]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.same_decl(y))
+}
+
+/// Compares two graphs: node names, types and parents, custom attributes, authored input
 /// values (bitwise; driven plugs are skipped), multi-input element sets,
 /// and connections. `Err` describes the first difference.
 pub fn graph_eq(a: &Graph, b: &Graph) -> Result<(), String> {
@@ -354,6 +435,13 @@ pub fn graph_eq(a: &Graph, b: &Graph) -> Result<(), String> {
         let pb = b.parent_of(ib).and_then(|p| b.node_name(p));
         if pa != pb {
             return Err(format!("{name}: parent {pa:?} vs {pb:?}"));
+        }
+        if !same_decls(a.custom_attrs(ia), b.custom_attrs(ib)) {
+            return Err(format!(
+                "{name}: custom attributes {:?} vs {:?}",
+                a.custom_attrs(ia),
+                b.custom_attrs(ib)
+            ));
         }
         let Some(spec) = a.node_spec(ia) else { continue };
         for attr in spec.attr_ids() {

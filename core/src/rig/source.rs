@@ -12,6 +12,13 @@ pub trait RigSource {
     /// The text of the file at `path`.
     fn read(&self, path: &Path) -> std::io::Result<String>;
 
+    /// The names of the files in the directory `dir`, for "did you mean" hints when a
+    /// file is missing (none by default).
+    fn file_names(&self, dir: &Path) -> Vec<String> {
+        let _ = dir;
+        Vec::new()
+    }
+
     /// Loads the value of an attribute of type `ty` written in a rig file as a file
     /// reference, `File("body.obj")`; `path` is already resolved against the directory of
     /// the rig file that wrote it. The core reads sinew value files
@@ -35,6 +42,23 @@ pub struct FsSource;
 impl RigSource for FsSource {
     fn read(&self, path: &Path) -> std::io::Result<String> {
         crate::files::read_text(path, crate::files::RIG_TEXT)
+    }
+
+    fn file_names(&self, dir: &Path) -> Vec<String> {
+        let dir = if dir.as_os_str().is_empty() {
+            Path::new(".")
+        } else {
+            dir
+        };
+        let Ok(entries) = std::fs::read_dir(dir) else {
+            return Vec::new();
+        };
+        entries
+            .filter_map(Result::ok)
+            .filter(|e| e.file_type().is_ok_and(|t| t.is_file()))
+            .filter_map(|e| e.file_name().into_string().ok())
+            .take(10_000)
+            .collect()
     }
 
     fn load_value(&self, path: &Path, ty: AttrType) -> Result<Value, String> {
@@ -70,6 +94,14 @@ impl RigSource for MemSource {
             .get(path)
             .cloned()
             .ok_or_else(|| std::io::Error::new(std::io::ErrorKind::NotFound, "no such file"))
+    }
+
+    fn file_names(&self, dir: &Path) -> Vec<String> {
+        self.files
+            .keys()
+            .filter(|p| p.parent().unwrap_or(Path::new("")) == dir)
+            .filter_map(|p| p.file_name()?.to_str().map(str::to_string))
+            .collect()
     }
 }
 

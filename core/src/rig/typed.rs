@@ -49,8 +49,22 @@ fn wrong(n: &Node, what: &str, ty: AttrType, attr: Option<&AttrSpec>) -> Diagnos
     .hint(format!("write {ty} like {}", example(ty, attr)))
 }
 
+/// The error for a non-finite number written as a name (`NaN`, `inf`, ...), which RON
+/// reads as a number and sinew refuses on purpose.
+fn non_finite(n: &Node, what: &str) -> Option<Diagnostic> {
+    let Ast::Ident(s) = &n.kind else { return None };
+    let lower = s.to_ascii_lowercase();
+    let word = lower.trim_end_matches("f32").trim_end_matches("f64");
+    matches!(word, "nan" | "inf" | "infinity").then(|| {
+        Diagnostic::new(n.span.clone(), format!("{what}: `{s}` is not a finite number"))
+            .hint("sinew refuses non-finite numbers (NaN, inf): give a finite number")
+    })
+}
+
 fn number(n: &Node, what: &str) -> Result<f64, Diagnostic> {
-    n.kind.as_f64().ok_or_else(|| wrong(n, what, AttrType::Float, None))
+    n.kind
+        .as_f64()
+        .ok_or_else(|| non_finite(n, what).unwrap_or_else(|| wrong(n, what, AttrType::Float, None)))
 }
 
 fn numbers<const N: usize>(n: &Node, what: &str, ty: AttrType) -> Result<[f64; N], Diagnostic> {
@@ -63,10 +77,32 @@ fn numbers<const N: usize>(n: &Node, what: &str, ty: AttrType) -> Result<[f64; N
         .hint(format!("write {ty} like {}", example(ty, None))));
     }
     let mut out = [0.0; N];
-    for (o, it) in out.iter_mut().zip(items) {
-        *o = it.kind.as_f64().ok_or_else(|| wrong(n, what, ty, None))?;
+    for (k, (o, it)) in out.iter_mut().zip(items).enumerate() {
+        *o = it.kind.as_f64().ok_or_else(|| {
+            non_finite(it, what).unwrap_or_else(|| {
+                Diagnostic::new(
+                    it.span.clone(),
+                    format!(
+                        "{what} expects {ty} ({N} numbers); number {} is {}",
+                        k + 1,
+                        it.kind.describe()
+                    ),
+                )
+                .hint(format!("write {ty} like {}", example(ty, None)))
+            })
+        })?;
     }
     Ok(out)
+}
+
+/// An integer literal, or `-0` (which the parser reads as the float -0.0, as RON reads
+/// it into a float).
+fn int_of(a: &Ast) -> Option<i64> {
+    match *a {
+        Ast::Int(i) => Some(i),
+        Ast::Float(x) if x == 0.0 && x.is_sign_negative() => Some(0),
+        _ => None,
+    }
 }
 
 fn list<'a>(n: &'a Node, what: &str, ty: AttrType) -> Result<&'a [Node], Diagnostic> {
@@ -122,26 +158,26 @@ pub fn read_value(n: &Node, ty: AttrType, attr: Option<&AttrSpec>, what: &str) -
             Ast::Bool(b) => Value::Bool(b),
             _ => return Err(wrong(n, what, ty, attr)),
         },
-        AttrType::Int => match n.kind {
-            Ast::Int(i) => Value::Int(i),
-            _ => return Err(wrong(n, what, ty, attr)),
+        AttrType::Int => match int_of(&n.kind) {
+            Some(i) => Value::Int(i),
+            None => return Err(wrong(n, what, ty, attr)),
         },
-        AttrType::Float => Value::Float(number(n, what).map_err(|_| wrong(n, what, ty, attr))?),
+        AttrType::Float => Value::Float(number(n, what)?),
         AttrType::Vec3 => Value::Vec3(DVec3::from_array(numbers::<3>(n, what, ty)?)),
         AttrType::Quat => Value::Quat(DQuat::from_array(numbers::<4>(n, what, ty)?)),
         AttrType::Matrix => Value::Matrix(matrix(n, what)?),
         AttrType::Enum => {
             let names: &[String] = attr.map(|a| a.enum_names.as_slice()).unwrap_or(&[]);
-            match &n.kind {
-                Ast::Int(i) if names.is_empty() || (*i >= 0 && (*i as usize) < names.len()) => Value::Enum(*i),
-                Ast::Int(i) => {
+            match (&n.kind, int_of(&n.kind)) {
+                (_, Some(i)) if names.is_empty() || (i >= 0 && (i as usize) < names.len()) => Value::Enum(i),
+                (_, Some(i)) => {
                     return Err(Diagnostic::new(
                         n.span.clone(),
                         format!("{what}: enum index {i} is out of range (0..{})", names.len()),
                     )
                     .hint(format!("write {}", example(ty, attr))))
                 }
-                Ast::Ident(s) | Ast::Str { value: s, .. } => match attr.and_then(|a| a.enum_index(s)) {
+                (Ast::Ident(s) | Ast::Str { value: s, .. }, _) => match attr.and_then(|a| a.enum_index(s)) {
                     Some(i) => Value::Enum(i),
                     None => {
                         let hint = match crate::error::nearest(s, names.iter().map(|s| s.as_str())) {
@@ -165,16 +201,13 @@ pub fn read_value(n: &Node, ty: AttrType, attr: Option<&AttrSpec>, what: &str) -
         AttrType::FloatArray => Value::FloatArray(Arc::new(
             list(n, what, ty)?
                 .iter()
-                .map(|x| x.kind.as_f64().ok_or_else(|| wrong(x, what, AttrType::Float, None)))
+                .map(|x| number(x, what))
                 .collect::<Result<_, _>>()?,
         )),
         AttrType::IntArray => Value::IntArray(Arc::new(
             list(n, what, ty)?
                 .iter()
-                .map(|x| match x.kind {
-                    Ast::Int(i) => Ok(i),
-                    _ => Err(wrong(x, what, AttrType::Int, None)),
-                })
+                .map(|x| int_of(&x.kind).ok_or_else(|| wrong(x, what, AttrType::Int, None)))
                 .collect::<Result<_, _>>()?,
         )),
         AttrType::Vec3Array => Value::Vec3Array(Arc::new(
@@ -193,8 +226,8 @@ pub fn read_value(n: &Node, ty: AttrType, attr: Option<&AttrSpec>, what: &str) -
             let mut c = Curve::default();
             for (k, v) in fields(n, what, ty, &["degree", "points", "knots", "form"])? {
                 match k {
-                    "degree" => match v.kind {
-                        Ast::Int(d) if (1..=7).contains(&d) => c.degree = d as u32,
+                    "degree" => match int_of(&v.kind) {
+                        Some(d) if (1..=7).contains(&d) => c.degree = d as u32,
                         _ => {
                             return Err(
                                 Diagnostic::new(v.span.clone(), "curve degree must be an integer from 1 to 7")
@@ -306,14 +339,14 @@ pub fn read_value(n: &Node, ty: AttrType, attr: Option<&AttrSpec>, what: &str) -
 
 /// A node for `kind` with an empty, synthetic position (for written-out values).
 pub(super) fn synth(kind: Ast) -> Node {
-    Node {
-        span: Span {
+    Node::new(
+        Span {
             file: Arc::from(std::path::Path::new("")),
             line: 0,
             col: 0,
         },
         kind,
-    }
+    )
 }
 
 fn fl(x: f64) -> Node {

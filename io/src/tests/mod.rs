@@ -4,11 +4,12 @@
 
 use std::path::PathBuf;
 
+mod bake_morphs;
 mod bvh;
 mod gltf_read;
 mod gltf_write;
 mod precision;
-mod validator;
+pub(crate) mod validator;
 
 /// The shared third-party assets folder, or `None` (after printing why) when absent.
 pub(super) fn assets_dir() -> Option<PathBuf> {

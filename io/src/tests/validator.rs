@@ -15,7 +15,7 @@ fn tool_dir() -> PathBuf {
 }
 
 /// The validator script, installing its npm dependency if needed; `None` means skip.
-fn validator() -> Option<PathBuf> {
+pub(crate) fn validator() -> Option<PathBuf> {
     let dir = tool_dir();
     if Command::new("node").arg("--version").output().is_err() {
         eprintln!("skipping: `node` is not installed (needed for the Khronos glTF validator)");
@@ -37,7 +37,7 @@ fn validator() -> Option<PathBuf> {
 }
 
 /// One JSON report per file (see validate.js).
-fn validate(script: &Path, files: &[PathBuf]) -> Vec<serde_json::Value> {
+pub(crate) fn validate(script: &Path, files: &[PathBuf]) -> Vec<serde_json::Value> {
     let out = Command::new("node").arg(script).args(files).output().expect("run node");
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(

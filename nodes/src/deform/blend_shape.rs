@@ -94,9 +94,12 @@ pub enum BlendShapeError {
 
 /// Which key of a target: the base, the full target or an in-between.
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum Key {
+pub enum Key {
+    /// The base (weight 0, no delta).
     Base,
+    /// The full target (weight 1).
     Full,
+    /// In-between `i` of [`Target::in_betweens`].
     Between(usize),
 }
 
@@ -106,7 +109,9 @@ impl Target {
         w.is_finite() && w != 0.0 && w != 1.0 && !self.in_betweens[..i].iter().any(|o| o.weight == w)
     }
 
-    fn keys(&self) -> impl Iterator<Item = (f32, Key)> + '_ {
+    /// The keys [`apply`] uses, with their weights: the base, the full target and every
+    /// usable in-between (in no particular order).
+    pub fn keys(&self) -> impl Iterator<Item = (f32, Key)> + '_ {
         [(0.0, Key::Base), (1.0, Key::Full)].into_iter().chain(
             (0..self.in_betweens.len())
                 .filter(|&i| self.usable_between(i))
@@ -114,8 +119,12 @@ impl Target {
         )
     }
 
-    /// The two keys bracketing `x` (or the end segment when outside) and the blend `t`.
-    fn bracket(&self, x: f32) -> ((f32, Key), (f32, Key), f32) {
+    /// The two keys bracketing `x` (or the end segment when outside) and the blend `t`: the
+    /// delta at `x` is `(1 − t)·delta(lo) + t·delta(hi)`, exactly as [`apply`] sums it. As a
+    /// function of `x`, each key's share is a hat function of the driving weight (1 at its
+    /// own weight, 0 at the other keys, linear in between and extended linearly past the
+    /// ends), which is how `sinew bake` exports in-betweens to glTF.
+    pub fn bracket(&self, x: f32) -> ((f32, Key), (f32, Key), f32) {
         let pick = |better: &dyn Fn(f32, f32) -> bool, ok: &dyn Fn(f32) -> bool| {
             self.keys()
                 .filter(|k| ok(k.0))
@@ -146,7 +155,8 @@ impl Target {
         (lo, hi, t)
     }
 
-    fn key_delta(&self, k: Key) -> Option<&SparseDelta> {
+    /// The offsets of key `k` (`None` for the base).
+    pub fn key_delta(&self, k: Key) -> Option<&SparseDelta> {
         match k {
             Key::Base => None,
             Key::Full => Some(&self.delta),

@@ -22,7 +22,7 @@ pub mod select;
 pub mod vector;
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;
 #[cfg(test)]
 mod tests_more;
 #[cfg(test)]

@@ -7,21 +7,21 @@ use glam::DVec3;
 use sinew_core::{CompileOptions, Graph, Instance, Program, Value};
 
 /// A graph with every standard node type.
-pub(super) fn graph() -> Graph {
+pub(crate) fn graph() -> Graph {
     Graph::new(crate::registry().unwrap())
 }
 
-pub(super) fn v3(x: f64, y: f64, z: f64) -> Value {
+pub(crate) fn v3(x: f64, y: f64, z: f64) -> Value {
     Value::Vec3(DVec3::new(x, y, z))
 }
 
-pub(super) fn set(g: &mut Graph, path: &str, v: Value) {
+pub(crate) fn set(g: &mut Graph, path: &str, v: Value) {
     g.set_path(path, v).unwrap_or_else(|e| panic!("{path}: {e}"));
 }
 
 /// Reads `paths` lazily, then compiles the graph, evaluates it once and
 /// asserts every path has bit-identical values in both modes. Returns the lazy values.
-pub(super) fn both(g: &mut Graph, paths: &[&str]) -> Vec<Value> {
+pub(crate) fn both(g: &mut Graph, paths: &[&str]) -> Vec<Value> {
     let lazy: Vec<Value> = paths.iter().map(|p| g.get_path(p).unwrap()).collect();
     let program = Arc::new(Program::compile(g, &CompileOptions::default()).unwrap());
     let mut inst = Instance::new(program.clone());
@@ -33,18 +33,18 @@ pub(super) fn both(g: &mut Graph, paths: &[&str]) -> Vec<Value> {
     lazy
 }
 
-pub(super) fn vec(v: &Value) -> DVec3 {
+pub(crate) fn vec(v: &Value) -> DVec3 {
     match v {
         Value::Vec3(v) => *v,
         other => panic!("not a vec3: {other}"),
     }
 }
 
-pub(super) fn float(v: &Value) -> f64 {
+pub(crate) fn float(v: &Value) -> f64 {
     v.as_f64().unwrap_or_else(|| panic!("not a float: {v}"))
 }
 
-pub(super) fn close3(a: DVec3, b: DVec3, tol: f64) {
+pub(crate) fn close3(a: DVec3, b: DVec3, tol: f64) {
     assert!((a - b).abs().max_element() <= tol, "{a} != {b}");
 }
 

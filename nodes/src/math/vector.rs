@@ -47,14 +47,7 @@ impl DistanceBetween {
         let p1 = ctx.get(self.in_matrix1).transform_point3(ctx.get(self.point1));
         let p2 = ctx.get(self.in_matrix2).transform_point3(ctx.get(self.point2));
         let d = finite3(p2) - finite3(p1);
-        // Scale before squaring so huge but finite coordinates do not overflow.
-        let m = d.abs().max_element();
-        let len = if m > 0.0 && m.is_finite() {
-            m * (d / m).length()
-        } else {
-            0.0
-        };
-        ctx.set(self.distance, finite(len));
+        ctx.set(self.distance, length(d));
         Ok(())
     }
 }
@@ -139,8 +132,19 @@ impl VectorProduct {
 }
 node_type!(VectorProduct);
 
+/// `|v|`, scaled before squaring so huge but finite components do not
+/// overflow; saturates at `f64::MAX`, and a non-finite vector gives 0.
+pub fn length(v: DVec3) -> f64 {
+    let m = v.abs().max_element();
+    if m > 0.0 && m.is_finite() {
+        finite(m * (v / m).length())
+    } else {
+        0.0
+    }
+}
+
 /// `v` normalized; zero (or non-finite) vectors give zero.
-fn unit(v: DVec3) -> DVec3 {
+pub fn unit(v: DVec3) -> DVec3 {
     let m = v.abs().max_element();
     if m > 0.0 && m.is_finite() {
         (v / m).normalize_or_zero()

@@ -7,7 +7,7 @@
 use glam::{DMat3, DMat4, DVec3};
 use sinew_core::{ComputeContext, ComputeError, Input, MultiInput, NodeSpec, NodeType, Output, SpecError};
 
-use super::math::{aim_matrix, blend_matrices, orthonormalize};
+use super::math::{aim_matrix, blend_matrices, blend_matrices_by, orthonormalize};
 
 /// One step of an ordered blend: `a` at `t = 0` (or non-finite `t`), `b`
 /// exactly at `t = 1`, otherwise [`blend_matrices`] (translate, scale, shear
@@ -30,18 +30,31 @@ pub fn blend_step(a: DMat4, b: DMat4, t: f64) -> DMat4 {
 /// `outputMatrix = blend(inputMatrix, acc, envelope)`; `enable` off passes
 /// `inputMatrix` through.
 ///
-/// Targets are parallel multis `targetMatrix[i]` / `weight[i]` (Maya's
-/// `target[i].targetMatrix` / `target[i].weight` compound). Maya's
-/// per-component weights, `useMatrix` and pre/post space matrices are not
-/// implemented. Fallback: a non-finite weight or envelope counts as 0;
-/// non-finite matrices are blended as identity.
+/// Per target (Maya's compound `target[i]`, here the parallel multis
+/// `targetMatrix[i]`, `weight[i]`, `useMatrix[i]`, `translateWeight[i]`,
+/// `rotateWeight[i]`, `scaleWeight[i]`, `shearWeight[i]`): `useMatrix` off
+/// skips the target; each component blends by `weight · componentWeight`
+/// (all default 1), so `rotateWeight[i] = 0` takes only the other components
+/// of that target.
+///
+/// Spaces: every input matrix (`inputMatrix` and the targets) is taken into
+/// `preSpaceMatrix` first (Maya `M · pre`, glam `pre * M`) and the result out
+/// through `postSpaceMatrix` (`R · post`); both default to the identity, and
+/// with identities the products are skipped (same bits as without them).
+///
+/// Fallback: a non-finite weight or envelope counts as 0; non-finite
+/// matrices are blended as identity.
 pub struct BlendMatrix {
     spec: NodeSpec,
     input: Input<DMat4>,
     enable: Input<bool>,
     envelope: Input<f64>,
+    pre: Input<DMat4>,
+    post: Input<DMat4>,
     target_matrix: MultiInput<DMat4>,
     weight: MultiInput<f64>,
+    use_matrix: MultiInput<bool>,
+    component_weights: [MultiInput<f64>; 4],
     out: Output<DMat4>,
 }
 
@@ -55,25 +68,54 @@ impl BlendMatrix {
             ("targetMatrix", "tmat"),
             ("weight", "wgt"),
             ("outputMatrix", "omat"),
+            ("enable", "enb"),
+            ("envelope", "env"),
+            ("preSpaceMatrix", "premat"),
+            ("postSpaceMatrix", "pstmat"),
         ]);
         s.doc("blends inputMatrix successively toward targetMatrix[i] by weight[i], scaled by envelope");
         let input = s.input("inputMatrix", DMat4::IDENTITY);
         let enable = s.input("enable", true);
         let envelope = s.input("envelope", 1.0);
         s.attr_doc(envelope, "0: inputMatrix, 1: the full stacked blend");
+        let pre = s.input("preSpaceMatrix", DMat4::IDENTITY);
+        s.attr_doc(pre, "every input matrix is taken into this space first");
+        let post = s.input("postSpaceMatrix", DMat4::IDENTITY);
+        s.attr_doc(post, "the result is taken out through this space");
         let target_matrix = s.multi_input("targetMatrix", DMat4::IDENTITY);
+        s.attr_doc(target_matrix, "target[i].targetMatrix");
         let weight = s.multi_input("weight", 1.0);
-        s.attr_doc(weight, "blend factor of targetMatrix[i] over the result so far");
+        s.attr_doc(weight, "target[i].weight: blend factor over the result so far");
+        let use_matrix = s.multi_input("useMatrix", true);
+        s.attr_doc(use_matrix, "target[i].useMatrix: off skips the target");
+        let component_weights = ["translateWeight", "rotateWeight", "scaleWeight", "shearWeight"].map(|name| {
+            let h = s.multi_input(name, 1.0);
+            s.attr_doc(h, "target[i]: factor on weight for this component");
+            h
+        });
         let out = s.output("outputMatrix", DMat4::IDENTITY);
         Ok(BlendMatrix {
             spec: s.build()?,
             input,
             enable,
             envelope,
+            pre,
+            post,
             target_matrix,
             weight,
+            use_matrix,
+            component_weights,
             out,
         })
+    }
+}
+
+/// `space * m` (Maya `m · space`), skipped when `space` is exactly the identity.
+pub(crate) fn into_space(space: &DMat4, m: DMat4) -> DMat4 {
+    if *space == DMat4::IDENTITY {
+        m
+    } else {
+        *space * m
     }
 }
 
@@ -83,20 +125,31 @@ impl NodeType for BlendMatrix {
     }
 
     fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
-        let input = ctx.get(self.input);
+        let raw = ctx.get(self.input);
         if !ctx.get(self.enable) {
-            ctx.set(self.out, input);
+            ctx.set(self.out, raw);
             return Ok(());
         }
+        let pre = ctx.get(self.pre);
+        let input = into_space(&pre, raw);
         let mut acc = input;
         let mut k = 0;
         while let Some((index, target)) = ctx.multi_at(self.target_matrix, k) {
-            let w = ctx.get_at(self.weight, index).unwrap_or(1.0);
-            acc = blend_step(acc, target, w);
             k += 1;
+            if !ctx.get_at(self.use_matrix, index).unwrap_or(true) {
+                continue;
+            }
+            let w = ctx.get_at(self.weight, index).unwrap_or(1.0);
+            let c = self.component_weights.map(|h| ctx.get_at(h, index).unwrap_or(1.0));
+            let target = into_space(&pre, target);
+            acc = if c == [1.0; 4] {
+                blend_step(acc, target, w)
+            } else {
+                blend_matrices_by(acc, target, c.map(|c| w * c))
+            };
         }
         let out = blend_step(input, acc, ctx.get(self.envelope));
-        ctx.set(self.out, out);
+        ctx.set(self.out, into_space(&ctx.get(self.post), out));
         Ok(())
     }
 }
@@ -114,7 +167,12 @@ impl NodeType for BlendMatrix {
 /// blends from the input (0) to the aimed result (1); `enable` off passes the
 /// input through.
 ///
-/// Subset of Maya's node: no pre/post space matrices. Fallbacks (from
+/// Spaces: `inputMatrix` is taken into `preSpaceMatrix` first (Maya
+/// `input · pre`, glam `pre * input`; the targets are not: they are points
+/// and directions given in their own target matrices) and the result out
+/// through `postSpaceMatrix` (`R · post`). Identities skip the products.
+///
+/// Fallbacks (from
 /// [`aim_matrix`]): a zero aim direction (target at the input position, zero
 /// align vector) leaves the primary axis where it is; a zero or parallel
 /// secondary direction behaves like `none`; zero/parallel input axes use X and
@@ -124,6 +182,8 @@ pub struct AimMatrix {
     input: Input<DMat4>,
     enable: Input<bool>,
     envelope: Input<f64>,
+    pre: Input<DMat4>,
+    post: Input<DMat4>,
     primary_axis: Input<DVec3>,
     primary_mode: Input<i64>,
     primary_vector: Input<DVec3>,
@@ -150,11 +210,17 @@ impl AimMatrix {
             ("inputMatrix", "imat"),
             ("outputMatrix", "tmat"),
             ("secondaryMode", "sm"),
+            ("preSpaceMatrix", "premat"),
+            ("postSpaceMatrix", "pstmat"),
         ]);
         s.doc("orients inputMatrix so primaryInputAxis aims at/aligns with a target, secondary axis toward another");
         let input = s.input("inputMatrix", DMat4::IDENTITY);
         let enable = s.input("enable", true);
         let envelope = s.input("envelope", 1.0);
+        let pre = s.input("preSpaceMatrix", DMat4::IDENTITY);
+        s.attr_doc(pre, "inputMatrix is taken into this space first");
+        let post = s.input("postSpaceMatrix", DMat4::IDENTITY);
+        s.attr_doc(post, "the result is taken out through this space");
         let primary_axis = s.input("primaryInputAxis", DVec3::X);
         let primary_mode = s.input_enum("primaryMode", &["lockAxis", "aim", "align"], MODE_AIM);
         let primary_vector = s.input("primaryTargetVector", DVec3::ZERO);
@@ -177,6 +243,8 @@ impl AimMatrix {
             input,
             enable,
             envelope,
+            pre,
+            post,
             primary_axis,
             primary_mode,
             primary_vector,
@@ -211,6 +279,7 @@ impl NodeType for AimMatrix {
             ctx.set(self.out, m);
             return Ok(());
         }
+        let m = into_space(&ctx.get(self.pre), m);
         if !m.is_finite() {
             ctx.set(self.out, DMat4::IDENTITY);
             return Ok(());
@@ -250,7 +319,7 @@ impl NodeType for AimMatrix {
         } else {
             m
         };
-        ctx.set(self.out, out);
+        ctx.set(self.out, into_space(&ctx.get(self.post), out));
         Ok(())
     }
 }

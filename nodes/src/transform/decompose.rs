@@ -250,14 +250,21 @@ pub fn remove_scale(m: DMat4) -> DMat4 {
 /// decomposition rounding), `t = 1` gives `b`; values outside [0, 1]
 /// extrapolate. Non-finite matrices count as identity, non-finite `t` as 0.
 pub fn blend_matrices(a: DMat4, b: DMat4, t: f64) -> DMat4 {
-    let t = if t.is_finite() { t } else { 0.0 };
+    blend_matrices_by(a, b, [t; 4])
+}
+
+/// [`blend_matrices`] with a factor per component, in the order translate,
+/// rotate, scale, shear (blendMatrix's per-target `translateWeight`...);
+/// a non-finite factor counts as 0.
+pub fn blend_matrices_by(a: DMat4, b: DMat4, t: [f64; 4]) -> DMat4 {
+    let t = t.map(|t| if t.is_finite() { t } else { 0.0 });
     let da = decompose(a, RotateOrder::Xyz).unwrap_or(Decomposed::IDENTITY);
     let db = decompose(b, RotateOrder::Xyz).unwrap_or(Decomposed::IDENTITY);
     compose_quat(
-        da.translate.lerp(db.translate, t),
-        slerp_shortest(da.quat, db.quat, t),
-        da.scale.lerp(db.scale, t),
-        da.shear.lerp(db.shear, t),
+        da.translate.lerp(db.translate, t[0]),
+        slerp_shortest(da.quat, db.quat, t[1]),
+        da.scale.lerp(db.scale, t[2]),
+        da.shear.lerp(db.shear, t[3]),
     )
 }
 

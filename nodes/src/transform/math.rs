@@ -49,8 +49,8 @@
 use glam::{DMat3, DMat4, DQuat, DVec3};
 
 pub use super::decompose::{
-    blend_matrices, compose, compose_quat, decompose, decompose_quat, matrix_rotation_quat, orthonormalize,
-    remove_scale, to_translate_rotate_scale, Decomposed,
+    blend_matrices, blend_matrices_by, compose, compose_quat, decompose, decompose_quat, matrix_rotation_quat,
+    orthonormalize, remove_scale, to_translate_rotate_scale, Decomposed,
 };
 pub use super::euler::{
     euler_to_mat3, euler_to_mat4, euler_to_quat, mat3_to_euler, mat3_to_euler_closest, quat_to_euler,

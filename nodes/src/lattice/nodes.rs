@@ -1,0 +1,327 @@
+//! The `lattice` shape and the `ffd` deformer (Maya's lattice deformer: `lattice` +
+//! `baseLattice` + `ffd`). The base lattice is any transform: connect its `worldMatrix` to
+//! `ffd.baseLatticeMatrix`; the lattice's transform `worldMatrix` goes to
+//! `ffd.deformedLatticeMatrix` and the shape's `latticeOutput` to `ffd.deformedLatticePoints`.
+//!
+//! `lattice`: `sDivisions`, `tDivisions`, `uDivisions` (int, 2, 5, 2: the lattice command's
+//! default divisions; 2 to 32 each), `controlPoints` (vec3 array in the lattice's local space,
+//! `s` fastest, `S·T·U` of them; empty = the undisturbed grid spanning `[−0.5, 0.5]³`) →
+//! `latticeOutput` (object: the [`Lattice`]).
+//!
+//! `ffd` (besides the shared attributes): `deformedLatticePoints` (object),
+//! `deformedLatticeMatrix`, `baseLatticeMatrix` (matrices), `local` (bool, false),
+//! `localInfluenceS/T/U` (int, 2), `outsideLattice` (enum `inside`, `all`, `falloff`; default
+//! `inside`), `outsideFalloffDist` (float, 1, in base-lattice units), `geomMatrix`.
+//!
+//! A vertex `p` (object space) goes to base-lattice coordinates
+//! `l = baseLatticeMatrix⁻¹ · geomMatrix · p`, `stu = l + ½`, through the trivariate Bernstein
+//! map [`evaluate`], and back by `geomMatrix⁻¹ · deformedLatticeMatrix`. `inside`: only vertices
+//! inside the base lattice move; `all`: every vertex (the polynomial extended outside);
+//! `falloff`: outside vertices within `outsideFalloffDist` of the lattice move by the
+//! deformation at the nearest lattice point, faded linearly to 0 at that distance.
+
+use std::sync::Arc;
+
+use glam::{DMat4, Mat4, Vec3};
+use sinew_core::{
+    AttrId, ComputeContext, ComputeError, Input, NodeSpec, NodeType, ObjectRef, Output, SpecBuilder, SpecError,
+};
+
+use super::ffd::{evaluate, evaluate_lanes, Lattice, MAX_DIVISIONS, MAX_LANE_DIVISIONS};
+use crate::deformer::base::{
+    deform_blocks, deform_points, finite, finite_matrix, inverse, Affine, Block, BlockMap, Deformer, DeformerAttrs,
+    Job, PointMap, LANES,
+};
+
+/// `outsideLattice` choices, by index.
+pub const OUTSIDE_MODES: [&str; 3] = ["inside", "all", "falloff"];
+
+/// The `lattice` shape node.
+pub struct LatticeShape {
+    spec: NodeSpec,
+    divisions: [Input<i64>; 3],
+    points: Input<Arc<Vec<glam::DVec3>>>,
+    output: Output<ObjectRef>,
+}
+
+impl LatticeShape {
+    /// Creates the node type.
+    pub fn new() -> Result<Self, SpecError> {
+        let mut s = NodeSpec::builder("lattice");
+        s.doc("lattice shape: divisions and control points, output for an ffd deformer");
+        let divisions = [
+            s.input("sDivisions", 2i64),
+            s.input("tDivisions", 5i64),
+            s.input("uDivisions", 2i64),
+        ];
+        let points = s.input("controlPoints", Arc::new(Vec::<glam::DVec3>::new()));
+        let output = s.output("latticeOutput", ObjectRef::default());
+        s.attr_doc(
+            points,
+            "control points in lattice space, s fastest (empty = undisturbed)",
+        )
+        .attr_doc(output, "the lattice (connect to ffd.deformedLatticePoints)");
+        for (h, axis) in divisions.iter().zip(["s", "t", "u"]) {
+            s.attr_doc(
+                *h,
+                &format!("number of lattice points along {axis} (2 to {MAX_DIVISIONS})"),
+            );
+        }
+        Ok(LatticeShape {
+            spec: s.build()?,
+            divisions,
+            points,
+            output,
+        })
+    }
+}
+
+impl NodeType for LatticeShape {
+    fn spec(&self) -> &NodeSpec {
+        &self.spec
+    }
+
+    fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
+        let mut div = [0usize; 3];
+        for (d, (h, name)) in div
+            .iter_mut()
+            .zip(self.divisions.iter().zip(["sDivisions", "tDivisions", "uDivisions"]))
+        {
+            let v = ctx.get(*h);
+            if !(2..=MAX_DIVISIONS as i64).contains(&v) {
+                return Err(ComputeError::new(format!(
+                    "lattice.{name} is {v}; give 2 to {MAX_DIVISIONS}"
+                )));
+            }
+            *d = v as usize;
+        }
+        let mut lattice = Lattice::undisturbed(div);
+        let points = ctx.get(self.points);
+        if !points.is_empty() {
+            if points.len() != lattice.points.len() {
+                return Err(ComputeError::new(format!(
+                    "lattice.controlPoints has {} points but {}×{}×{} divisions need {}",
+                    points.len(),
+                    div[0],
+                    div[1],
+                    div[2],
+                    lattice.points.len()
+                )));
+            }
+            if let Some(i) = points.iter().position(|p| !p.is_finite()) {
+                return Err(ComputeError::new(format!("lattice.controlPoints[{i}] is not finite")));
+            }
+            lattice.points = points.iter().map(|p| p.as_vec3()).collect();
+        }
+        ctx.set(self.output, ObjectRef::new(lattice));
+        Ok(())
+    }
+}
+
+/// The global-mode ffd kernel, inside mode, per block and per point (the same operations).
+struct FfdBlock<'a> {
+    lattice: &'a Lattice,
+    to: Affine,
+    back: Affine,
+}
+
+#[inline(always)]
+fn inside(stu: Vec3) -> bool {
+    stu.cmpge(Vec3::ZERO).all() && stu.cmple(Vec3::ONE).all()
+}
+
+impl BlockMap for FfdBlock<'_> {
+    #[inline(always)]
+    fn map_block(&self, b: &mut Block) {
+        let mut stu = [[0.0f32; LANES]; 3];
+        let mut keep = [false; LANES];
+        for q in 0..LANES {
+            let s = self.to.apply(Vec3::new(b[0][q], b[1][q], b[2][q])) + 0.5;
+            keep[q] = !inside(s);
+            (stu[0][q], stu[1][q], stu[2][q]) = (s.x, s.y, s.z);
+        }
+        evaluate_lanes(self.lattice, &mut stu);
+        for q in 0..LANES {
+            let o = self.back.apply(Vec3::new(stu[0][q], stu[1][q], stu[2][q]));
+            let o = if keep[q] {
+                Vec3::new(b[0][q], b[1][q], b[2][q])
+            } else {
+                o
+            };
+            (b[0][q], b[1][q], b[2][q]) = (o.x, o.y, o.z);
+        }
+    }
+}
+
+impl PointMap for FfdBlock<'_> {
+    #[inline(always)]
+    fn map(&self, _: usize, p: Vec3) -> Vec3 {
+        let stu = self.to.apply(p) + 0.5;
+        if inside(stu) {
+            self.back.apply(evaluate(self.lattice, stu, None))
+        } else {
+            p
+        }
+    }
+}
+
+/// The `ffd` deformer.
+pub struct Ffd {
+    points: Input<ObjectRef>,
+    deformed: Input<DMat4>,
+    base: Input<DMat4>,
+    local: Input<bool>,
+    influence: [Input<i64>; 3],
+    outside: Input<i64>,
+    falloff: Input<f64>,
+    geom: Input<DMat4>,
+}
+
+/// One frame of `ffd`.
+pub struct FfdFrame {
+    /// Per-frame parameter `lattice`.
+    pub lattice: ObjectRef,
+    /// Per-frame parameter `to`.
+    pub to: Mat4,
+    /// Per-frame parameter `back`.
+    pub back: Mat4,
+    /// Per-frame parameter `local`.
+    pub local: Option<[usize; 3]>,
+    /// Per-frame parameter `outside`.
+    pub outside: i64,
+    /// Per-frame parameter `falloff`.
+    pub falloff: f32,
+}
+
+impl Deformer for Ffd {
+    type Frame = FfdFrame;
+
+    fn declare(s: &mut SpecBuilder, _base: &DeformerAttrs) -> (Self, Vec<AttrId>) {
+        let points = s.input("deformedLatticePoints", ObjectRef::default());
+        let deformed = s.input("deformedLatticeMatrix", DMat4::IDENTITY);
+        let base = s.input("baseLatticeMatrix", DMat4::IDENTITY);
+        let local = s.input("local", false);
+        let influence = [
+            s.input("localInfluenceS", 2i64),
+            s.input("localInfluenceT", 2i64),
+            s.input("localInfluenceU", 2i64),
+        ];
+        let outside = s.input_enum("outsideLattice", &OUTSIDE_MODES, 0);
+        let falloff = s.input("outsideFalloffDist", 1.0);
+        let geom = s.input("geomMatrix", DMat4::IDENTITY);
+        s.attr_doc(points, "the lattice shape's latticeOutput")
+            .attr_doc(deformed, "the lattice transform's world matrix")
+            .attr_doc(base, "the base lattice's world matrix (the rest lattice)")
+            .attr_doc(local, "each vertex uses only the lattice points of its window")
+            .attr_doc(outside, "inside: only vertices in the lattice move; all; falloff")
+            .attr_doc(falloff, "falloff distance outside the lattice (base lattice units)")
+            .attr_doc(geom, "the deformed mesh's world matrix");
+        s.keyable(points, false);
+        let mut ids = vec![
+            points.id(),
+            deformed.id(),
+            base.id(),
+            local.id(),
+            outside.id(),
+            falloff.id(),
+            geom.id(),
+        ];
+        ids.extend(influence.iter().map(|h| h.id()));
+        let me = Ffd {
+            points,
+            deformed,
+            base,
+            local,
+            influence,
+            outside,
+            falloff,
+            geom,
+        };
+        (me, ids)
+    }
+
+    fn prepare(&self, ty: &str, ctx: &ComputeContext<'_>) -> Result<FfdFrame, ComputeError> {
+        let g = finite_matrix(ty, "geomMatrix", ctx.get(self.geom))?;
+        let dlm = finite_matrix(ty, "deformedLatticeMatrix", ctx.get(self.deformed))?;
+        let blm = finite_matrix(ty, "baseLatticeMatrix", ctx.get(self.base))?;
+        let to = inverse(ty, "baseLatticeMatrix", blm)? * g;
+        let back = inverse(ty, "geomMatrix", g)? * dlm;
+        let local = if ctx.get(self.local) {
+            let mut li = [0usize; 3];
+            for (l, h) in li.iter_mut().zip(self.influence) {
+                let v = ctx.get(h);
+                if v < 1 {
+                    return Err(ComputeError::new(format!(
+                        "{ty}.localInfluence is {v}; give at least 1"
+                    )));
+                }
+                *l = v.min(MAX_DIVISIONS as i64) as usize;
+            }
+            Some(li)
+        } else {
+            None
+        };
+        Ok(FfdFrame {
+            lattice: ctx.get(self.points),
+            to: to.as_mat4(),
+            back: back.as_mat4(),
+            local,
+            outside: ctx.get(self.outside),
+            falloff: finite(ty, "outsideFalloffDist", ctx.get(self.falloff))?.max(0.0) as f32,
+        })
+    }
+
+    fn deform(&self, ty: &str, f: &FfdFrame, job: Job<'_>) -> Result<(), ComputeError> {
+        if f.lattice.is_empty() {
+            return Ok(());
+        }
+        let Some(lattice) = f.lattice.downcast::<Lattice>() else {
+            return Err(ComputeError::new(format!(
+                "{ty}.deformedLatticePoints is not a lattice; connect lattice.latticeOutput"
+            )));
+        };
+        let (to, back, local) = (Affine::new(f.to), Affine::new(f.back), f.local);
+        let (pos, out, m, env) = (&job.input.positions, job.out, job.membership, job.envelope);
+        match f.outside {
+            1 => deform_points(pos, out, m, env, |_, p| {
+                back.apply(evaluate(lattice, to.apply(p) + 0.5, local))
+            }),
+            2 => {
+                let d = f.falloff;
+                deform_points(pos, out, m, env, |_, p| {
+                    let stu = to.apply(p) + 0.5;
+                    if inside(stu) {
+                        return back.apply(evaluate(lattice, stu, local));
+                    }
+                    let c = stu.clamp(Vec3::ZERO, Vec3::ONE);
+                    let dist = stu.distance(c);
+                    if dist >= d {
+                        return p;
+                    }
+                    let moved = back.apply(stu - 0.5 + (evaluate(lattice, c, local) - (c - 0.5)));
+                    p + (moved - p) * (1.0 - dist / d)
+                })
+            }
+            _ => {
+                let single = |_, p: Vec3| {
+                    let stu = to.apply(p) + 0.5;
+                    if inside(stu) {
+                        back.apply(evaluate(lattice, stu, local))
+                    } else {
+                        p
+                    }
+                };
+                if local.is_some() || lattice.divisions.iter().any(|&d| d > MAX_LANE_DIVISIONS) {
+                    return {
+                        deform_points(pos, out, m, env, single);
+                        Ok(())
+                    };
+                }
+                // Global mode, every vertex active: blocks of LANES vertices.
+                let block = FfdBlock { lattice, to, back };
+                deform_blocks(pos, out, m, env, &block, &block);
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,260 @@
+//! `deltaMush` (Mancewicz, Derksen & Wilson 2014, the formulation Maya's deltaMush node
+//! implements): smooth the rest mesh `R` and store each vertex's offset from the smoothed rest
+//! mesh in a tangent frame of the smoothed mesh; each frame, smooth the deformed input `D`
+//! the same way and add the stored offsets back in the smoothed input's frames:
+//! `out = S(D) + displacement · F_S(D) · d`, with `d = F_S(R)ᵀ (R − S(R))`.
+//!
+//! Computed as `R + (S(D) − S(R)) + (displacement · F_S(D)·d − F_S(R)·d)`, the same value
+//! (since `R = S(R) + F_S(R)·d`), so that an undeformed input returns the rest mesh exactly,
+//! bit for bit.
+//!
+//! Tangent frame of vertex `v` on a smoothed mesh `S`: `t = normalize(S[a] − S[v])` for its
+//! first neighbour `a`, `n = normalize((S[a] − S[v]) × (S[b] − S[v]))` for the neighbour `b`
+//! chosen at bind as the most perpendicular to `a`, `bitangent = n × t`. A vertex with fewer
+//! than two usable neighbours keeps its offset in object space.
+//!
+//! Attributes (besides the shared ones; Maya's names and defaults): `originalGeometry` (mesh:
+//! the rest mesh, e.g. the skinCluster's input), `smoothingIterations` (int, 10),
+//! `smoothingStep` (float, 0.5), `pinBorderVertices` (bool, true), `displacement` (float, 1),
+//! `inwardConstraint`, `outwardConstraint` (float, 0: each removes that fraction of the
+//! result's motion into, or out of, the input surface along the input's normals),
+//! `bindCache` (object output: the bind data, rebuilt when the rest mesh or smoothing
+//! settings change). Not implemented: Maya's `distanceWeight`, `scale`, `smoothingAlgorithm`.
+
+use std::cell::RefCell;
+use std::sync::Arc;
+
+use glam::{Vec3, Vec3A};
+use sinew_core::{AttrId, ComputeContext, ComputeError, Input, Mesh, ObjectRef, Output, SpecBuilder};
+
+use super::smooth::Smoother;
+use crate::deformer::base::{deform_points, finite, smooth_normals_into, Deformer, DeformerAttrs, Job};
+
+const NONE: u32 = u32::MAX;
+
+/// Bind data of a deltaMush.
+#[derive(Clone, Debug, Default)]
+pub struct MushBind {
+    /// Smoothing topology.
+    pub smoother: Smoother,
+    /// Smoothing iterations and step.
+    pub iterations: usize,
+    /// Step per iteration.
+    pub step: f32,
+    /// The rest positions `R`.
+    pub rest: Vec<Vec3>,
+    /// `S(R)`.
+    pub smooth_rest: Vec<Vec3A>,
+    /// The two frame neighbours of each vertex (`u32::MAX` = no frame).
+    pub frame: Vec<[u32; 2]>,
+    /// Offsets in frame coordinates (object space where there is no frame).
+    pub local: Vec<Vec3>,
+    /// `F_S(R) · d`, computed as every frame computes `F_S(D) · d`.
+    pub rest_offset: Vec<Vec3>,
+}
+
+/// `F · d` for vertex `v` on smoothed positions `s`.
+#[inline(always)]
+fn frame_apply(s: &[Vec3A], v: usize, f: [u32; 2], d: Vec3) -> Vec3 {
+    if f[0] == NONE {
+        return d;
+    }
+    let s = |i: usize| Vec3::from(s[i]);
+    let p = s(v);
+    let e1 = s(f[0] as usize) - p;
+    let e2 = s(f[1] as usize) - p;
+    let n = e1.cross(e2).normalize_or_zero();
+    let t = e1.normalize_or_zero();
+    let b = n.cross(t);
+    t * d.x + b * d.y + n * d.z
+}
+
+impl MushBind {
+    /// Binds to the rest mesh.
+    pub fn new(rest: &Mesh, iterations: usize, step: f32, pin_border: bool) -> Self {
+        let n = rest.positions.len();
+        let smoother = Smoother::new(n, &rest.triangles, pin_border);
+        let (mut s, mut tmp) = (Vec::new(), Vec::new());
+        smoother.smooth(&rest.positions, iterations, step, &mut s, &mut tmp);
+        let sv: Vec<Vec3> = s.iter().map(|&p| Vec3::from(p)).collect();
+        let mut frame = vec![[NONE; 2]; n];
+        let mut local = vec![Vec3::ZERO; n];
+        for v in 0..n {
+            let d = rest.positions[v] - sv[v];
+            local[v] = d;
+            let nb = smoother.adj.of(v);
+            let Some(&a) = nb.first() else {
+                continue;
+            };
+            let e1 = (sv[a as usize] - sv[v]).normalize_or_zero();
+            let best = nb[1..]
+                .iter()
+                .map(|&b| (b, e1.cross((sv[b as usize] - sv[v]).normalize_or_zero()).length()))
+                .max_by(|x, y| x.1.total_cmp(&y.1));
+            let Some((b, sin)) = best else {
+                continue;
+            };
+            if sin < 1e-4 {
+                continue;
+            }
+            let f = [a, b];
+            // Local coordinates: project on the frame's axes.
+            let (t, nrm) = (e1, e1.cross(sv[b as usize] - sv[v]).normalize_or_zero());
+            let bt = nrm.cross(t);
+            frame[v] = f;
+            local[v] = Vec3::new(d.dot(t), d.dot(bt), d.dot(nrm));
+        }
+        let rest_offset = (0..n).map(|v| frame_apply(&s, v, frame[v], local[v])).collect();
+        MushBind {
+            smoother,
+            iterations,
+            step,
+            rest: rest.positions.clone(),
+            smooth_rest: s,
+            frame,
+            local,
+            rest_offset,
+        }
+    }
+}
+
+#[derive(Default)]
+struct Scratch {
+    smooth: Vec<Vec3A>,
+    tmp: Vec<Vec3A>,
+    normals: Vec<Vec3>,
+}
+
+thread_local! {
+    static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
+}
+
+/// The `deltaMush` deformer.
+pub struct DeltaMush {
+    original: Input<Arc<Mesh>>,
+    iterations: Input<i64>,
+    step: Input<f64>,
+    pin: Input<bool>,
+    displacement: Input<f64>,
+    inward: Input<f64>,
+    outward: Input<f64>,
+    bind: Output<ObjectRef>,
+}
+
+/// One frame of `deltaMush`.
+pub struct MushFrame {
+    /// Per-frame parameter `bind`.
+    pub bind: ObjectRef,
+    /// Per-frame parameter `displacement`.
+    pub displacement: f32,
+    /// Per-frame parameter `inward`.
+    pub inward: f32,
+    /// Per-frame parameter `outward`.
+    pub outward: f32,
+}
+
+impl Deformer for DeltaMush {
+    type Frame = MushFrame;
+
+    fn declare(s: &mut SpecBuilder, _base: &DeformerAttrs) -> (Self, Vec<AttrId>) {
+        let original = s.input("originalGeometry", Arc::new(Mesh::default()));
+        let iterations = s.input("smoothingIterations", 10i64);
+        let step = s.input("smoothingStep", 0.5);
+        let pin = s.input("pinBorderVertices", true);
+        let displacement = s.input("displacement", 1.0);
+        let inward = s.input("inwardConstraint", 0.0);
+        let outward = s.input("outwardConstraint", 0.0);
+        let bind = s.output("bindCache", ObjectRef::default());
+        s.attr_doc(original, "the rest mesh the offsets are measured on")
+            .attr_doc(iterations, "smoothing passes")
+            .attr_doc(step, "fraction of the way to the neighbours' mean per pass")
+            .attr_doc(pin, "border vertices do not move while smoothing")
+            .attr_doc(displacement, "scale of the restored offsets (0 = smoothed mesh)")
+            .attr_doc(inward, "removes this fraction of motion into the input surface")
+            .attr_doc(outward, "removes this fraction of motion out of the input surface")
+            .attr_doc(bind, "bind data (MushBind)");
+        s.affects(&[original.id(), iterations.id(), step.id(), pin.id()], &[bind.id()]);
+        let ids = vec![bind.id(), displacement.id(), inward.id(), outward.id()];
+        let me = DeltaMush {
+            original,
+            iterations,
+            step,
+            pin,
+            displacement,
+            inward,
+            outward,
+            bind,
+        };
+        (me, ids)
+    }
+
+    fn compute_extra(&self, ty: &str, ctx: &mut ComputeContext<'_>) -> Result<bool, ComputeError> {
+        if !ctx.wants(self.bind) {
+            return Ok(false);
+        }
+        let rest = ctx.get(self.original);
+        rest.validate()
+            .map_err(|e| ComputeError::new(format!("{ty}.originalGeometry: {e}")))?;
+        let iterations = ctx.get(self.iterations);
+        if !(0..=10_000).contains(&iterations) {
+            return Err(ComputeError::new(format!(
+                "{ty}.smoothingIterations is {iterations}; give 0 to 10000"
+            )));
+        }
+        let step = finite(ty, "smoothingStep", ctx.get(self.step))? as f32;
+        let bind = MushBind::new(&rest, iterations as usize, step, ctx.get(self.pin));
+        ctx.set(self.bind, ObjectRef::new(bind));
+        Ok(true)
+    }
+
+    fn prepare(&self, ty: &str, ctx: &ComputeContext<'_>) -> Result<MushFrame, ComputeError> {
+        Ok(MushFrame {
+            bind: ctx.get_output(self.bind),
+            displacement: finite(ty, "displacement", ctx.get(self.displacement))? as f32,
+            inward: finite(ty, "inwardConstraint", ctx.get(self.inward))? as f32,
+            outward: finite(ty, "outwardConstraint", ctx.get(self.outward))? as f32,
+        })
+    }
+
+    fn deform(&self, ty: &str, f: &MushFrame, job: Job<'_>) -> Result<(), ComputeError> {
+        let Some(b) = f.bind.downcast::<MushBind>() else {
+            return Err(ComputeError::new(format!(
+                "{ty}: bindCache is missing; fix originalGeometry"
+            )));
+        };
+        let pos = &job.input.positions;
+        if b.rest.len() != pos.len() {
+            return Err(ComputeError::new(format!(
+                "{ty}: originalGeometry has {} vertices but inputGeometry has {}; connect the rest mesh of this input",
+                b.rest.len(),
+                pos.len()
+            )));
+        }
+        let (disp, inward, outward) = (f.displacement, f.inward, f.outward);
+        SCRATCH.with(|s| {
+            let mut s = s.borrow_mut();
+            let s = &mut *s;
+            b.smoother.smooth(pos, b.iterations, b.step, &mut s.smooth, &mut s.tmp);
+            let constrain = inward != 0.0 || outward != 0.0;
+            if constrain {
+                smooth_normals_into(pos, &job.input.triangles, &mut s.normals);
+            }
+            let (sm, normals) = (&s.smooth, &s.normals);
+            deform_points(pos, job.out, job.membership, job.envelope, |v, p| {
+                let offset = frame_apply(sm, v, b.frame[v], b.local[v]) * disp - b.rest_offset[v];
+                // Components where nothing changed keep the rest bits (−0.0 stays −0.0).
+                let change = Vec3::from(sm[v] - b.smooth_rest[v]) + offset;
+                let r = b.rest[v];
+                let out = Vec3::select(change.cmpeq(Vec3::ZERO), r, r + change);
+                if !constrain {
+                    return out;
+                }
+                let n = normals[v];
+                let d = out - p;
+                let dn = d.dot(n);
+                p + d - n * (dn * if dn < 0.0 { inward } else { outward })
+            });
+        });
+        Ok(())
+    }
+}

@@ -1,0 +1,167 @@
+//! Tests of `deltaMush` and `tension`: rest in = rest out bit for bit, rigid motions carried
+//! through, smoothing of a spike, the shared deformer checks.
+
+use std::sync::Arc;
+
+use glam::{Quat, Vec3};
+use sinew_core::Mesh;
+
+use super::smooth::Smoother;
+use crate::deformer::testing::{both, check_common, grid, rig, set};
+
+/// A bumpy 7×7 sheet (rest mesh).
+fn sheet() -> Mesh {
+    let mut m = grid(7, 7, (-1.0, 1.0), (-1.0, 1.0));
+    for p in &mut m.positions {
+        p.z = 0.2 * (3.0 * p.x).sin() * (2.0 * p.y).cos();
+    }
+    m
+}
+
+fn with_positions(m: &Mesh, f: impl Fn(usize, Vec3) -> Vec3) -> Mesh {
+    let mut out = m.clone();
+    for (v, p) in out.positions.iter_mut().enumerate() {
+        *p = f(v, *p);
+    }
+    out
+}
+
+fn mush_rig(ty: &str, input: Mesh) -> sinew_core::Graph {
+    let mut g = rig(ty, input);
+    set(&mut g, "d.originalGeometry", Arc::new(sheet()));
+    g
+}
+
+#[test]
+fn delta_mush_of_the_rest_mesh_is_the_rest_mesh_exactly() {
+    for pin in [true, false] {
+        let mut g = mush_rig("deltaMush", sheet());
+        set(&mut g, "d.pinBorderVertices", pin);
+        let out = both(&mut g, "d.outputGeometry");
+        let rest = sheet();
+        for (o, r) in out.positions.iter().zip(&rest.positions) {
+            assert_eq!(o.to_array().map(f32::to_bits), r.to_array().map(f32::to_bits));
+        }
+    }
+}
+
+#[test]
+fn delta_mush_carries_a_rigid_motion_through() {
+    // Smoothing commutes with rotations and translations and the frames turn with the mesh,
+    // so a rigidly moved rest mesh comes out as the same rigid motion of the rest mesh.
+    let q = Quat::from_euler(glam::EulerRot::XYZ, 0.4, -0.7, 1.1);
+    let t = Vec3::new(0.5, -2.0, 3.0);
+    let mut g = mush_rig("deltaMush", with_positions(&sheet(), |_, p| q * p + t));
+    set(&mut g, "d.pinBorderVertices", false);
+    let out = both(&mut g, "d.outputGeometry");
+    for (o, r) in out.positions.iter().zip(&sheet().positions) {
+        assert!((*o - (q * *r + t)).length() < 2e-5, "{o} vs {}", q * *r + t);
+    }
+}
+
+#[test]
+fn delta_mush_smooths_a_spike_and_displacement_zero_is_the_smoothed_input() {
+    let rest = sheet();
+    // Vertex 24 (the centre) pulled up by 0.5: the mushed result brings it back towards the
+    // rest surface.
+    let spiked = with_positions(&rest, |v, p| if v == 24 { p + Vec3::Z * 0.5 } else { p });
+    let mut g = mush_rig("deltaMush", spiked.clone());
+    let out = both(&mut g, "d.outputGeometry");
+    let err_in = (spiked.positions[24] - rest.positions[24]).length();
+    let err_out = (out.positions[24] - rest.positions[24]).length();
+    assert!(err_out < 0.5 * err_in, "{err_out} vs {err_in}");
+    // displacement 0: the input smoothed 10 times by half steps (borders pinned).
+    set(&mut g, "d.displacement", 0.0);
+    let out = both(&mut g, "d.outputGeometry");
+    let s = Smoother::new(49, &rest.triangles, true);
+    let (mut want, mut tmp) = (Vec::new(), Vec::new());
+    s.smooth(&spiked.positions, 10, 0.5, &mut want, &mut tmp);
+    for (o, w) in out.positions.iter().zip(&want) {
+        assert!((*o - Vec3::from(*w)).length() < 1e-5);
+    }
+    // The border is pinned: its vertices keep the input's positions.
+    assert!((out.positions[0] - spiked.positions[0]).length() < 1e-6);
+}
+
+#[test]
+fn delta_mush_constraints_and_errors() {
+    let rest = sheet();
+    let spiked = with_positions(&rest, |v, p| if v == 24 { p + Vec3::Z * 0.5 } else { p });
+    let mut g = mush_rig("deltaMush", spiked.clone());
+    // Full inward constraint: no vertex goes below the input surface (along its normal).
+    set(&mut g, "d.inwardConstraint", 1.0);
+    let out = both(&mut g, "d.outputGeometry");
+    let mut normals = Vec::new();
+    crate::deformer::base::smooth_normals_into(&spiked.positions, &spiked.triangles, &mut normals);
+    for (v, (o, (s, n))) in out
+        .positions
+        .iter()
+        .zip(spiked.positions.iter().zip(&normals))
+        .enumerate()
+    {
+        assert!((*o - *s).dot(*n) > -1e-6, "vertex {v}");
+    }
+    set(
+        &mut g,
+        "d.originalGeometry",
+        Arc::new(grid(2, 2, (0.0, 1.0), (0.0, 1.0))),
+    );
+    let err = g.get_path("d.outputGeometry").unwrap_err().to_string();
+    assert!(err.contains("originalGeometry has 4 vertices"), "{err}");
+    set(&mut g, "d.smoothingIterations", -1i64);
+    let err = g.get_path("d.outputGeometry").unwrap_err().to_string();
+    assert!(err.contains("smoothingIterations"), "{err}");
+}
+
+fn noisy(rest: &Mesh) -> Mesh {
+    with_positions(rest, |v, p| {
+        let k = v as f32;
+        p + Vec3::new((k * 1.7).sin(), (k * 2.3).cos(), (k * 0.9).sin()) * 0.05
+    })
+}
+
+#[test]
+fn delta_mush_common_checks() {
+    let mut g = mush_rig("deltaMush", noisy(&sheet()));
+    set(&mut g, "d.pinBorderVertices", false);
+    check_common(&mut g);
+}
+
+#[test]
+fn tension_restores_edge_lengths() {
+    let rest = sheet();
+    // Rest in: exactly the rest mesh.
+    let mut g = mush_rig("tension", rest.clone());
+    set(&mut g, "d.pinBorderVertices", false);
+    let out = both(&mut g, "d.outputGeometry");
+    assert_eq!(out.positions, rest.positions);
+    // Noise on the interior (borders pinned): the edges get closer to their rest lengths.
+    let stretched = noisy(&rest);
+    let mut g = mush_rig("tension", stretched.clone());
+    let out = both(&mut g, "d.outputGeometry");
+    let adj = crate::deformer::topology::Adjacency::new(49, &rest.triangles);
+    let error = |m: &[Vec3]| {
+        let mut e = 0.0;
+        for v in 0..49 {
+            for &u in adj.of(v) {
+                let u = u as usize;
+                e += ((m[v] - m[u]).length() - (rest.positions[v] - rest.positions[u]).length()).abs();
+            }
+        }
+        e
+    };
+    let (before, after) = (error(&stretched.positions), error(&out.positions));
+    assert!(after < 0.8 * before, "{after} vs {before}");
+    // squashConstraint 0 and stretchConstraint 0: nothing to restore.
+    set(&mut g, "d.stretchConstraint", 0.0);
+    set(&mut g, "d.squashConstraint", 0.0);
+    let out = both(&mut g, "d.outputGeometry");
+    assert_eq!(out.positions, stretched.positions);
+}
+
+#[test]
+fn tension_common_checks() {
+    let mut g = mush_rig("tension", noisy(&sheet()));
+    set(&mut g, "d.pinBorderVertices", false);
+    check_common(&mut g);
+}

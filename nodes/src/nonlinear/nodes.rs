@@ -1,0 +1,450 @@
+//! The nonLinear node types: the handle shapes `deformBend`, `deformTwist`, `deformSquash`,
+//! `deformFlare`, `deformSine`, `deformWave` (Maya's `deformFunc` shapes: they hold the
+//! parameters and output `deformerData`), and the `nonLinear` deformer that applies one to a
+//! mesh in the handle's space.
+//!
+//! `nonLinear` attributes (besides the shared ones): `deformerData` (object: connect the
+//! handle shape's `deformerData`), `matrix` (the handle transform's world matrix: the
+//! deformer axis is its Y axis, its origin the handle centre), `geomMatrix` (the mesh's world
+//! matrix). Each vertex goes to handle space (`matrix⁻¹ · geomMatrix`), through the function,
+//! and back. Handle shapes' parameters are in [`PARAMS`] with Maya's names and defaults
+//! (angles in degrees); `highBound` below `lowBound`, `maxRadius` below `minRadius`, a zero
+//! `wavelength` or a `maxExpandPos` outside (0, 1) are errors naming the attribute.
+
+use glam::{DMat4, Mat4, Vec3};
+use sinew_core::{
+    AttrId, ComputeContext, ComputeError, Input, NodeSpec, NodeType, ObjectRef, Output, Registry, SpecBuilder,
+    SpecError, Unit,
+};
+
+use super::funcs::{bend, flare, sine, squash, twist, wave, Func};
+use crate::deformer::base::{
+    deform_map, finite, finite_matrix, handle_space, Affine, Deformer, DeformerAttrs, Job, PointMap,
+};
+use crate::deformer::DeformerNode;
+
+/// A handle shape parameter: (attribute, default, whether it is an angle in degrees).
+pub type Param = (&'static str, f64, bool);
+
+/// Each handle shape's parameters: (node type, its parameters).
+pub const PARAMS: [(&str, &[Param]); 6] = [
+    (
+        "deformBend",
+        &[
+            ("lowBound", -1.0, false),
+            ("highBound", 1.0, false),
+            ("curvature", 0.0, true),
+        ],
+    ),
+    (
+        "deformTwist",
+        &[
+            ("lowBound", -1.0, false),
+            ("highBound", 1.0, false),
+            ("startAngle", 0.0, true),
+            ("endAngle", 0.0, true),
+        ],
+    ),
+    (
+        "deformSquash",
+        &[
+            ("lowBound", -1.0, false),
+            ("highBound", 1.0, false),
+            ("factor", 0.0, false),
+            ("expand", 1.0, false),
+            ("maxExpandPos", 0.5, false),
+            ("startSmoothness", 0.0, false),
+            ("endSmoothness", 0.0, false),
+        ],
+    ),
+    (
+        "deformFlare",
+        &[
+            ("lowBound", -1.0, false),
+            ("highBound", 1.0, false),
+            ("startFlareX", 1.0, false),
+            ("startFlareZ", 1.0, false),
+            ("endFlareX", 1.0, false),
+            ("endFlareZ", 1.0, false),
+            ("curve", 0.0, false),
+        ],
+    ),
+    (
+        "deformSine",
+        &[
+            ("lowBound", -1.0, false),
+            ("highBound", 1.0, false),
+            ("amplitude", 0.0, false),
+            ("wavelength", 2.0, false),
+            ("offset", 0.0, false),
+            ("dropoff", 0.0, false),
+        ],
+    ),
+    (
+        "deformWave",
+        &[
+            ("minRadius", 0.0, false),
+            ("maxRadius", 1.0, false),
+            ("amplitude", 0.0, false),
+            ("wavelength", 1.0, false),
+            ("offset", 0.0, false),
+            ("dropoff", 0.0, false),
+        ],
+    ),
+];
+
+/// Maya's short names of the handle shapes' attributes, as Maya's node reference lists them
+/// (`deformTwist`'s page was not at hand: its attributes have long names only).
+pub const SHORT_NAMES: [&[(&str, &str)]; 6] = [
+    &[("lowBound", "lb"), ("highBound", "hb"), ("curvature", "cur")],
+    &[],
+    &[
+        ("lowBound", "lb"),
+        ("highBound", "hb"),
+        ("startSmoothness", "ss"),
+        ("endSmoothness", "es"),
+        ("maxExpandPos", "mp"),
+        ("expand", "exp"),
+    ],
+    &[
+        ("lowBound", "lb"),
+        ("highBound", "hb"),
+        ("startFlareX", "sfx"),
+        ("startFlareZ", "sfz"),
+        ("endFlareX", "efx"),
+        ("endFlareZ", "efz"),
+        ("curve", "crv"),
+    ],
+    &[
+        ("lowBound", "lb"),
+        ("highBound", "hb"),
+        ("amplitude", "amp"),
+        ("wavelength", "wav"),
+        ("offset", "off"),
+        ("dropoff", "dr"),
+    ],
+    &[
+        ("minRadius", "mnr"),
+        ("maxRadius", "mxr"),
+        ("amplitude", "amp"),
+        ("wavelength", "wav"),
+        ("offset", "off"),
+        ("dropoff", "dr"),
+    ],
+];
+
+/// A handle shape node (`deformBend` ...): parameters in, `deformerData` out.
+pub struct DeformFunc {
+    spec: NodeSpec,
+    kind: usize,
+    params: Vec<Input<f64>>,
+    data: Output<ObjectRef>,
+}
+
+impl DeformFunc {
+    /// The handle shape `PARAMS[kind]`.
+    pub fn new(kind: usize) -> Result<Self, SpecError> {
+        let (name, params) = PARAMS[kind];
+        let mut s = NodeSpec::builder(name);
+        s.doc("nonLinear handle shape: its parameters as deformerData for a nonLinear deformer");
+        let mut ins = Vec::new();
+        for &(p, default, angle) in params {
+            let h = s.input(p, default);
+            if angle {
+                s.unit(h, Unit::Degrees);
+            }
+            ins.push(h);
+        }
+        let data = s.output("deformerData", ObjectRef::default());
+        s.maya_names(SHORT_NAMES[kind]);
+        s.attr_doc(
+            data,
+            "the function and its parameters (connect to nonLinear.deformerData)",
+        );
+        Ok(DeformFunc {
+            spec: s.build()?,
+            kind,
+            params: ins,
+            data,
+        })
+    }
+
+    fn func(&self, ctx: &ComputeContext<'_>) -> Result<Func, ComputeError> {
+        let (ty, names) = PARAMS[self.kind];
+        let mut v = [0.0f32; 8];
+        for (k, (&h, &(name, _, angle))) in self.params.iter().zip(names).enumerate() {
+            let x = finite(ty, name, ctx.get(h))?;
+            v[k] = if angle { x.to_radians() } else { x } as f32;
+        }
+        let err = |m: String| Err(ComputeError::new(format!("{ty}.{m}")));
+        if v[1] < v[0] {
+            let (lo, hi) = (names[0].0, names[1].0);
+            return err(format!("{hi} ({}) is below {lo} ({}); make {hi} >= {lo}", v[1], v[0]));
+        }
+        let [a, b, c, d, e, f, g, _] = v;
+        Ok(match self.kind {
+            0 => Func::Bend { lb: a, hb: b, k: c },
+            1 => Func::Twist {
+                lb: a,
+                hb: b,
+                a0: c,
+                a1: d,
+            },
+            2 => {
+                if !(e > 0.0 && e < 1.0) {
+                    return err(format!(
+                        "maxExpandPos is {e}; give a value between 0 and 1 (Maya: 0.01 to 0.99)"
+                    ));
+                }
+                let factor = if c >= 0.0 { 1.0 + c } else { 1.0 / (1.0 - c) };
+                Func::Squash {
+                    lb: a,
+                    hb: b,
+                    f: factor,
+                    expand: d,
+                    m: e,
+                    ss: f,
+                    es: g,
+                }
+            }
+            3 => Func::Flare {
+                lb: a,
+                hb: b,
+                start: [c, d],
+                end: [e, f],
+                curve: g,
+            },
+            _ => {
+                if d == 0.0 {
+                    return err("wavelength is 0; give a non-zero wavelength".into());
+                }
+                if self.kind == 4 {
+                    Func::Sine {
+                        lb: a,
+                        hb: b,
+                        amplitude: c,
+                        wavelength: d,
+                        offset: e,
+                        dropoff: f,
+                    }
+                } else {
+                    Func::Wave {
+                        r0: a,
+                        r1: b,
+                        amplitude: c,
+                        wavelength: d,
+                        offset: e,
+                        dropoff: f,
+                    }
+                }
+            }
+        })
+    }
+}
+
+impl NodeType for DeformFunc {
+    fn spec(&self) -> &NodeSpec {
+        &self.spec
+    }
+
+    fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
+        let f = self.func(ctx)?;
+        ctx.set(self.data, ObjectRef::new(f));
+        Ok(())
+    }
+}
+
+/// The `nonLinear` deformer.
+pub struct NonLinear {
+    data: Input<ObjectRef>,
+    matrix: Input<DMat4>,
+    geom: Input<DMat4>,
+}
+
+/// One frame of `nonLinear`: the function and the space changes.
+pub struct NonLinearFrame {
+    /// Per-frame parameter `func`.
+    pub func: Option<Func>,
+    /// Per-frame parameter `to`.
+    pub to: Mat4,
+    /// Per-frame parameter `back`.
+    pub back: Mat4,
+}
+
+impl Deformer for NonLinear {
+    type Frame = NonLinearFrame;
+
+    fn declare(s: &mut SpecBuilder, _base: &DeformerAttrs) -> (Self, Vec<AttrId>) {
+        let data = s.input("deformerData", ObjectRef::default());
+        let matrix = s.input("matrix", DMat4::IDENTITY);
+        let geom = s.input("geomMatrix", DMat4::IDENTITY);
+        s.attr_doc(data, "the handle shape's deformerData (deformBend, deformTwist ...)")
+            .attr_doc(matrix, "the handle's world matrix (the deformer axis is its Y axis)")
+            .attr_doc(geom, "the deformed mesh's world matrix");
+        s.keyable(data, false);
+        (
+            NonLinear { data, matrix, geom },
+            vec![data.id(), matrix.id(), geom.id()],
+        )
+    }
+
+    fn prepare(&self, ty: &str, ctx: &ComputeContext<'_>) -> Result<NonLinearFrame, ComputeError> {
+        let data = ctx.get(self.data);
+        let func = if data.is_empty() {
+            None
+        } else {
+            Some(*data.downcast::<Func>().ok_or_else(|| {
+                ComputeError::new(format!("{ty}.deformerData is not a handle shape's; connect deformBend.deformerData (or twist, squash, flare, sine, wave)"))
+            })?)
+        };
+        let handle = finite_matrix(ty, "matrix", ctx.get(self.matrix))?;
+        let geom = finite_matrix(ty, "geomMatrix", ctx.get(self.geom))?;
+        let (to, back) = handle_space(ty, handle, geom)?;
+        Ok(NonLinearFrame { func, to, back })
+    }
+
+    fn deform(&self, _ty: &str, f: &NonLinearFrame, job: Job<'_>) -> Result<(), ComputeError> {
+        let Some(func) = f.func else {
+            return Ok(());
+        };
+        if let Func::Bend { k: 0.0, .. } = func {
+            return Ok(());
+        }
+        let (to, back) = (Affine::new(f.to), Affine::new(f.back));
+        let (pos, out, m, env) = (&job.input.positions, job.out, job.membership, job.envelope);
+        let tau = std::f32::consts::TAU;
+        macro_rules! run {
+            ($f:expr) => {
+                deform_map(pos, out, m, env, &InHandle { to, back, f: $f })
+            };
+        }
+        match func {
+            Func::Bend { k, lb, hb } => run!(BendMap { k, lb, hb }),
+            Func::Twist { lb, hb, a0, a1 } => run!(TwistMap { lb, hb, a0, a1 }),
+            Func::Squash {
+                lb,
+                hb,
+                f,
+                expand,
+                m,
+                ss,
+                es,
+            } => run!(SquashMap {
+                lb,
+                hb,
+                f,
+                expand,
+                m,
+                ss,
+                es
+            }),
+            Func::Flare {
+                lb,
+                hb,
+                start,
+                end,
+                curve,
+            } => run!(FlareMap {
+                lb,
+                hb,
+                start,
+                end,
+                curve
+            }),
+            Func::Sine {
+                lb,
+                hb,
+                amplitude,
+                wavelength,
+                offset,
+                dropoff,
+            } => run!(SineMap {
+                lb,
+                hb,
+                amplitude,
+                w: tau / wavelength,
+                offset,
+                dropoff
+            }),
+            Func::Wave {
+                r0,
+                r1,
+                amplitude,
+                wavelength,
+                offset,
+                dropoff,
+            } => run!(WaveMap {
+                r0,
+                r1,
+                amplitude,
+                w: tau / wavelength,
+                offset,
+                dropoff
+            }),
+        }
+        Ok(())
+    }
+}
+
+/// A function in handle space, as a point map (inlined into the vertex loop).
+struct InHandle<F> {
+    to: Affine,
+    back: Affine,
+    f: F,
+}
+
+/// A function of handle-space points.
+trait HandleFn {
+    fn apply(&self, p: Vec3) -> Vec3;
+}
+
+impl<F: HandleFn> PointMap for InHandle<F> {
+    #[inline(always)]
+    fn map(&self, _: usize, p: Vec3) -> Vec3 {
+        self.back.apply(self.f.apply(self.to.apply(p)))
+    }
+}
+
+macro_rules! handle_fn {
+    ($name:ident { $($field:ident: $ty:ty),* } => |$p:ident| $body:expr) => {
+        struct $name {
+            $($field: $ty),*
+        }
+        impl HandleFn for $name {
+            #[inline(always)]
+            fn apply(&self, $p: Vec3) -> Vec3 {
+                let $name { $($field),* } = *self;
+                $body
+            }
+        }
+        impl Clone for $name {
+            fn clone(&self) -> Self {
+                *self
+            }
+        }
+        impl Copy for $name {}
+    };
+}
+
+handle_fn!(BendMap { k: f32, lb: f32, hb: f32 } => |p| bend(p, k, lb, hb));
+handle_fn!(TwistMap { lb: f32, hb: f32, a0: f32, a1: f32 } => |p| twist(p, lb, hb, a0, a1));
+handle_fn!(SquashMap { lb: f32, hb: f32, f: f32, expand: f32, m: f32, ss: f32, es: f32 }
+    => |p| squash(p, lb, hb, f, expand, m, ss, es));
+handle_fn!(FlareMap { lb: f32, hb: f32, start: [f32; 2], end: [f32; 2], curve: f32 }
+    => |p| flare(p, lb, hb, start, end, curve));
+handle_fn!(SineMap { lb: f32, hb: f32, amplitude: f32, w: f32, offset: f32, dropoff: f32 }
+    => |p| sine(p, lb, hb, amplitude, w, offset, dropoff));
+handle_fn!(WaveMap { r0: f32, r1: f32, amplitude: f32, w: f32, offset: f32, dropoff: f32 }
+    => |p| wave(p, r0, r1, amplitude, w, offset, dropoff));
+
+/// Registers the handle shapes and `nonLinear`.
+pub fn register(registry: &mut Registry) -> Result<(), SpecError> {
+    for kind in 0..PARAMS.len() {
+        registry.register(DeformFunc::new(kind)?)?;
+    }
+    registry.register(DeformerNode::<NonLinear>::new(
+        "nonLinear",
+        "bends, twists, squashes, flares or waves a mesh in the space of a handle (deformerData from deformBend ...)",
+    )?)?;
+    Ok(())
+}
