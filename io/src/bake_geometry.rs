@@ -30,9 +30,17 @@ fn source(g: &Graph, node: NodeId, attr: &str) -> Result<Option<Plug>, String> {
     Ok(g.source_of(attr_plug(g, node, attr)?))
 }
 
+/// A mesh without normals (set straight on a deformer's input, not through a `mesh` node,
+/// which adds them) gets smooth ones here, so no baked mesh is shaded faceted.
 fn mesh_of(g: &mut Graph, p: Plug) -> Result<sinew_core::Mesh, String> {
     match g.get(p).map_err(|e| e.to_string())? {
-        Value::Mesh(m) => Ok((*m).clone()),
+        Value::Mesh(m) => {
+            let mut m = (*m).clone();
+            if m.normals.is_empty() && !m.triangles.is_empty() {
+                m.recompute_normals();
+            }
+            Ok(m)
+        }
         other => Err(format!("{} is not a mesh ({other})", g.plug_name(p))),
     }
 }

@@ -135,10 +135,37 @@ pub(super) enum Kind {
     Uint,
 }
 
-/// Loaded buffer data, indexed like the document's buffers.
-pub(super) struct Buffers(pub(super) Vec<Vec<u8>>);
+/// Fewest elements a view-less accessor may always have (see [`Buffers::read`]).
+pub(super) const MIN_VIEWLESS_ELEMENTS: usize = 1 << 16;
+/// Fewest numbers the accessors of any file may decode to in all (see [`Buffers::new`]).
+pub(super) const MIN_DECODE_BUDGET: usize = 1 << 24;
+
+/// Loaded buffer data, indexed like the document's buffers, and what is left of the
+/// file's decoding budget.
+pub(super) struct Buffers {
+    data: Vec<Vec<u8>>,
+    /// Largest number of elements an accessor without a buffer view may have.
+    viewless_limit: usize,
+    /// Numbers the accessors may still decode to.
+    budget: std::cell::Cell<usize>,
+}
 
 impl Buffers {
+    /// Wraps the loaded buffers. Work is bounded by the data the file holds: an accessor
+    /// without a buffer view (zeros, plus sparse substitutions) has at most
+    /// max([`MIN_VIEWLESS_ELEMENTS`], bytes in the buffers) elements, and all accessor
+    /// reads together (an accessor used twice counts twice) decode to at most
+    /// max([`MIN_DECODE_BUDGET`], 32 × bytes in the buffers) numbers. A few hundred bytes
+    /// of JSON naming huge counts are refused instead of allocating gigabytes.
+    pub(super) fn new(data: Vec<Vec<u8>>) -> Self {
+        let bytes: usize = data.iter().map(Vec::len).sum();
+        Buffers {
+            viewless_limit: MIN_VIEWLESS_ELEMENTS.max(bytes),
+            budget: std::cell::Cell::new(MIN_DECODE_BUDGET.max(bytes.saturating_mul(32))),
+            data,
+        }
+    }
+
     /// Reads accessor `acc` as `f64` components, checking type, bounds and finiteness.
     /// Returns the flat values; `dims` lists the accepted element types.
     pub(super) fn read(
@@ -181,10 +208,24 @@ impl Buffers {
         if matches!(acc.dimensions(), Dimensions::Mat2 | Dimensions::Mat3) && csize < 4 {
             return Err(err("padded small-component matrices are not supported".into()));
         }
+        if acc.view().is_none() && count > self.viewless_limit {
+            return Err(err(format!(
+                "count {count} without a buffer view is more than the {} elements the file's data can justify",
+                self.viewless_limit
+            )));
+        }
         let total = count
             .checked_mul(width)
             .filter(|&t| t <= 1 << 28)
             .ok_or_else(|| err(format!("count {count} is unreasonably large")))?;
+        let left = self.budget.get();
+        if total > left {
+            return Err(err(format!(
+                "decoding {total} more numbers would exceed the file's budget of \
+                 max({MIN_DECODE_BUDGET}, 32 × its buffer bytes) decoded numbers (accessors are read once per use)"
+            )));
+        }
+        self.budget.set(left - total);
         let mut out = vec![0.0f64; total];
         if let Some(view) = acc.view() {
             let elem = width * csize;
@@ -257,7 +298,7 @@ impl Buffers {
     }
 
     fn view_bytes(&self, view: &gltf::buffer::View, acc: usize, ctx: &str) -> Result<&[u8], GltfError> {
-        let b = self.0.get(view.buffer().index()).map(Vec::as_slice).unwrap_or(&[]);
+        let b = self.data.get(view.buffer().index()).map(Vec::as_slice).unwrap_or(&[]);
         b.get(view.offset()..view.offset().saturating_add(view.length()))
             .ok_or_else(|| GltfError::Accessor {
                 index: acc,

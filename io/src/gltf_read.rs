@@ -58,7 +58,7 @@ pub fn read_gltf_slice(bytes: &[u8], base_dir: Option<&Path>) -> Result<Scene, G
         other => GltfError::Validation(other.to_string()),
     })?;
     let exact: ExactJson = serde_json::from_slice(json).map_err(|e| GltfError::Json(e.to_string()))?;
-    let buffers = Buffers(load_buffers(&doc, bin, base_dir)?);
+    let buffers = Buffers::new(load_buffers(&doc, bin, base_dir)?);
     Reader {
         doc: &doc,
         buffers,

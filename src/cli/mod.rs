@@ -209,10 +209,17 @@ enum Command {
         strict: bool,
     },
     /// Evaluate a rig over frames and write a glTF (.glb or .gltf) with skeleton, skins, morphs and animation.
+    ///
+    /// Time: rig frame f is f / fps seconds of rig time (frame 0 = 0 s). The glTF gets one
+    /// key per frame at (f - START) / fps seconds, so the clip starts at 0 s on the first
+    /// baked frame: `--frames 1..=24 --fps 24` puts rig frame 1 at glTF time 0 and frame 24
+    /// at 23/24 s. `sinew import` maps glTF time t to rig frame t * fps, so baking an
+    /// imported clip over its own range (0..=N) keeps its timing.
     Bake {
         /// The rig file.
         rig: PathBuf,
-        /// Frames: START..=END, START..END or one frame (default: the rig's frame range).
+        /// Frames: START..=END, START..END or one frame (default: the rig's frame range);
+        /// frame START becomes glTF time 0.
         #[arg(long)]
         frames: Option<String>,
         /// Frames per second (default: the rig's fps, else 24).

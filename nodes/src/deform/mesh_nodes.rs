@@ -243,6 +243,12 @@ pub fn copy_topology(src: &Mesh, dst: &mut Mesh) {
 /// unconnected (identity) `worldMesh` equals `inMesh`. An invalid `inMesh` (indices out of
 /// range, mismatched normals/UVs, non-finite positions) is a `ComputeError` from
 /// [`Mesh::validate`].
+///
+/// An `inMesh` with triangles but no normals (an inline mesh written without `normals`, an
+/// OBJ without `vn`) gets smooth normals, angle and area weighted as Maya's default vertex
+/// normal method ([`Mesh::recompute_normals`]), so `outMesh`, `worldMesh`, the deformers
+/// downstream and `sinew bake` carry shading normals instead of leaving every viewer to
+/// shade the mesh faceted. They are computed when `inMesh` changes, not per frame.
 pub struct MeshNode {
     spec: NodeSpec,
     in_mesh: Input<Arc<Mesh>>,
@@ -271,7 +277,10 @@ impl MeshNode {
                 world_matrix,
                 "object-to-world matrix, e.g. the parent transform's worldMatrix",
             )
-            .attr_doc(out_mesh, "inMesh, validated and shared")
+            .attr_doc(
+                out_mesh,
+                "inMesh, validated and shared (smooth normals added when it has none)",
+            )
             .attr_doc(world_mesh, "inMesh in world space");
         s.affects(&[in_mesh.id()], &[out_mesh.id()]);
         s.affects(&[in_mesh.id(), world_matrix.id()], &[world_mesh.id()]);
@@ -291,17 +300,27 @@ impl NodeType for MeshNode {
     }
 
     fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
-        let mesh = ctx.get(self.in_mesh);
+        let mut mesh = ctx.get(self.in_mesh);
         mesh.validate()
             .map_err(|e| ComputeError::new(format!("mesh.inMesh: {e}")))?;
+        let needs_normals = |m: &Mesh| m.normals.is_empty() && !m.triangles.is_empty();
         if ctx.wants(self.out_mesh) {
+            if needs_normals(&mesh) {
+                Arc::make_mut(&mut mesh).recompute_normals();
+            }
             ctx.set(self.out_mesh, mesh);
         } else if ctx.wants(self.world_mesh) {
             let m = ctx.get(self.world_matrix);
-            if m == DMat4::IDENTITY {
+            if m == DMat4::IDENTITY && !needs_normals(&mesh) {
                 ctx.set(self.world_mesh, mesh);
             } else if let Some(dst) = ctx.data_mut(self.world_mesh) {
                 transform_mesh_into(&mesh, &m, dst);
+                if needs_normals(dst) {
+                    // Normals of the world-space surface (under a non-uniform scale these
+                    // are the true normals; transforming object-space ones agrees up to
+                    // rounding).
+                    dst.recompute_normals();
+                }
             }
         }
         Ok(())

@@ -61,6 +61,8 @@ mod tests;
 mod tests_chain;
 #[cfg(test)]
 mod tests_nodes;
+#[cfg(test)]
+mod tests_normals;
 
 use sinew_core::{Registry, SpecError};
 
