@@ -194,7 +194,7 @@ fn small_scene() -> sinew::io::Scene {
     use sinew::io::scene::{Node, Primitive, SceneMesh, Skin};
     let j = Node {
         name: Some("j".into()),
-        translation: DVec3::Y,
+        translation: glam::DVec3::Y,
         ..Default::default()
     };
     let m = Node {

@@ -197,11 +197,11 @@ fn test_scene() -> Scene {
             name: Some(n.to_string()),
             parent: p,
             translation: if p.is_some() {
-                Vec3::new(0.1 * i as f32, 1.0, 0.0).as_dvec3()
+                DVec3::new(0.1 * i as f64, 1.0, 0.0)
             } else {
                 DVec3::ZERO
             },
-            rotation: Quat::from_rotation_x(0.1 * i as f32).as_dquat(),
+            rotation: DQuat::from_rotation_x(0.1 * i as f64),
             scale: if i == 2 { DVec3::new(1.0, 1.5, 1.0) } else { DVec3::ONE },
             ..Node::default()
         })

@@ -110,3 +110,30 @@ fn registry_covers_the_maya_utility_nodes() {
     let missing: Vec<&String> = names.iter().filter(|n| registry.spec(n).is_none()).collect();
     assert!(missing.is_empty(), "missing node types: {missing:?}");
 }
+
+#[test]
+fn registry_covers_the_curve_surface_and_constraint_nodes() {
+    let registry = sinew::default_registry().expect("registry");
+    let names = [
+        "nurbsCurve",
+        "nurbsSurface",
+        "curveInfo",
+        "pointOnCurveInfo",
+        "nearestPointOnCurve",
+        "motionPath",
+        "pointOnSurfaceInfo",
+        "closestPointOnSurface",
+        "follicle",
+        "uvPin",
+        "proximityPin",
+        "pointOnPolyConstraint",
+        "geometryConstraint",
+        "normalConstraint",
+        "tangentConstraint",
+        "poleVectorConstraint",
+        "ikRP",
+        "ikSpring",
+    ];
+    let missing: Vec<&&str> = names.iter().filter(|n| registry.spec(n).is_none()).collect();
+    assert!(missing.is_empty(), "missing node types: {missing:?}");
+}

@@ -1,4 +1,5 @@
-//! Heavy data that flows through the graph behind an `Arc`: meshes, skin weights and curves.
+//! Heavy data that flows through the graph behind an `Arc`: meshes, skin weights, curves and
+//! NURBS surfaces.
 //!
 //! These are plain data types with no behaviour beyond validation and cheap
 //! helpers; deformers and other plugins in `sinew-nodes` do the work. Positions
@@ -199,6 +200,70 @@ impl Default for Curve {
             knots: Vec::new(),
             form: CurveForm::Open,
         }
+    }
+}
+
+/// A non-rational B-spline surface (Maya's nurbsSurface with all weights 1): a grid of
+/// control points, a degree, knots and a form in each of the two directions.
+///
+/// Control points are stored `u`-major as Maya lists them (`v` varies fastest):
+/// point `(i, j)` is `points[i * count_v + j]`, `i < count_u`, `j < count_v`. Each
+/// direction follows [`Curve`]'s conventions: empty knots mean uniform (clamped when
+/// open, with the first `degree` rows or columns wrapped when periodic), explicit knots
+/// are `count + degree + 1` values or Maya's `count + degree - 1`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Surface {
+    /// Degree in `u` (1 = bilinear across, 3 = cubic).
+    pub degree_u: u32,
+    /// Degree in `v`.
+    pub degree_v: u32,
+    /// Open or periodic in `u`.
+    pub form_u: CurveForm,
+    /// Open or periodic in `v`.
+    pub form_v: CurveForm,
+    /// Number of control points along `u` (rows).
+    pub count_u: u32,
+    /// Number of control points along `v` (columns).
+    pub count_v: u32,
+    /// `count_u * count_v` control points, `v` varying fastest.
+    pub points: Vec<DVec3>,
+    /// Knot vector in `u`; empty means uniform.
+    pub knots_u: Vec<f64>,
+    /// Knot vector in `v`; empty means uniform.
+    pub knots_v: Vec<f64>,
+}
+
+impl Default for Surface {
+    fn default() -> Self {
+        Surface {
+            degree_u: 3,
+            degree_v: 3,
+            form_u: CurveForm::Open,
+            form_v: CurveForm::Open,
+            count_u: 0,
+            count_v: 0,
+            points: Vec::new(),
+            knots_u: Vec::new(),
+            knots_v: Vec::new(),
+        }
+    }
+}
+
+impl Surface {
+    /// Checks that the grid holds `count_u * count_v` points (the one invariant the type
+    /// itself keeps; degrees, knots and finiteness are checked where the surface is
+    /// evaluated, with messages naming the fix).
+    pub fn validate(&self) -> Result<(), String> {
+        let want = self.count_u as usize * self.count_v as usize;
+        if self.points.len() != want {
+            return Err(format!(
+                "surface has {} control points but a {} x {} grid needs {want}",
+                self.points.len(),
+                self.count_u,
+                self.count_v
+            ));
+        }
+        Ok(())
     }
 }
 

@@ -36,7 +36,7 @@ pub mod value;
 pub mod value_file;
 
 pub use custom::{CustomAffects, CustomNode};
-pub use data::{Curve, CurveForm, Mesh, Weights};
+pub use data::{Curve, CurveForm, Mesh, Surface, Weights};
 pub use error::{ComputeError, Error, InputError, Result, SpecError};
 pub use graph::{EvalStats, Graph, NodeId, Plug, MAX_ELEMENT_INDEX};
 pub use kernel::{finite, KernelNode, ScalarKernel, ScalarOp, MAX_KERNEL_INPUTS};

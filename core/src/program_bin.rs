@@ -90,6 +90,7 @@ fn heavy_ptr(v: &Value) -> Option<usize> {
         Value::String(a) => Arc::as_ptr(a) as *const u8 as usize,
         Value::Mesh(a) => Arc::as_ptr(a) as usize,
         Value::Curve(a) => Arc::as_ptr(a) as usize,
+        Value::Surface(a) => Arc::as_ptr(a) as usize,
         Value::Weights(a) => Arc::as_ptr(a) as usize,
         Value::FloatArray(a) => Arc::as_ptr(a) as usize,
         Value::IntArray(a) => Arc::as_ptr(a) as usize,

@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use glam::{DMat4, DQuat, DVec3, Vec2, Vec3};
 
-use crate::data::{Curve, CurveForm, Mesh, Weights};
+use crate::data::{Curve, CurveForm, Mesh, Surface, Weights};
 use crate::error::{Error, Result};
 use crate::program::Binding;
 use crate::value::{ObjectRef, Value};
@@ -43,6 +43,7 @@ pub(crate) const S_FLOATS: u8 = 4;
 pub(crate) const S_INTS: u8 = 5;
 pub(crate) const S_VEC3S: u8 = 6;
 pub(crate) const S_MATRICES: u8 = 7;
+pub(crate) const S_SURFACE: u8 = 8;
 
 #[derive(Default)]
 pub(crate) struct Writer {
@@ -186,6 +187,23 @@ impl Writer {
                 }
                 self.varint(c.knots.len() as u64);
                 self.f64s(&c.knots);
+            }
+            Value::Surface(c) => {
+                self.u8(S_SURFACE);
+                self.varint(c.degree_u as u64);
+                self.varint(c.degree_v as u64);
+                self.u8(matches!(c.form_u, CurveForm::Periodic) as u8);
+                self.u8(matches!(c.form_v, CurveForm::Periodic) as u8);
+                self.varint(c.count_u as u64);
+                self.varint(c.count_v as u64);
+                self.varint(c.points.len() as u64);
+                for p in &c.points {
+                    self.f64s(&p.to_array());
+                }
+                self.varint(c.knots_u.len() as u64);
+                self.f64s(&c.knots_u);
+                self.varint(c.knots_v.len() as u64);
+                self.f64s(&c.knots_v);
             }
             Value::Weights(w) => {
                 self.u8(S_WEIGHTS);
@@ -385,6 +403,44 @@ impl<'a> Reader<'a> {
                     knots,
                     form,
                 }))
+            }
+            S_SURFACE => {
+                let degree_u = self.u32v("surface degree u")?;
+                let degree_v = self.u32v("surface degree v")?;
+                let mut form = |what: &str| -> Result<CurveForm> {
+                    match self.u8(what)? {
+                        0 => Ok(CurveForm::Open),
+                        1 => Ok(CurveForm::Periodic),
+                        t => Err(self.fail(&format!("unknown {what} {t}"))),
+                    }
+                };
+                let form_u = form("surface form u")?;
+                let form_v = form("surface form v")?;
+                let count_u = self.u32v("surface count u")?;
+                let count_v = self.u32v("surface count v")?;
+                let n = self.count(24, "surface points")?;
+                let points = (0..n)
+                    .map(|_| self.f64s::<3>("point").map(DVec3::from_array))
+                    .collect::<Result<Vec<_>>>()?;
+                let n = self.count(8, "surface knots u")?;
+                let knots_u = (0..n).map(|_| self.f64("knot")).collect::<Result<Vec<_>>>()?;
+                let n = self.count(8, "surface knots v")?;
+                let knots_v = (0..n).map(|_| self.f64("knot")).collect::<Result<Vec<_>>>()?;
+                let surface = Surface {
+                    degree_u,
+                    degree_v,
+                    form_u,
+                    form_v,
+                    count_u,
+                    count_v,
+                    points,
+                    knots_u,
+                    knots_v,
+                };
+                surface
+                    .validate()
+                    .map_err(|m| self.fail(&format!("invalid surface: {m}")))?;
+                Value::Surface(Arc::new(surface))
             }
             S_WEIGHTS => {
                 let n = self.count(4, "weight offsets")?;

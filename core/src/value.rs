@@ -10,7 +10,7 @@ use std::sync::Arc;
 
 use glam::{DMat4, DQuat, DVec3};
 
-use crate::data::{Curve, Mesh, Weights};
+use crate::data::{Curve, Mesh, Surface, Weights};
 
 /// The type of an attribute: what kind of value its plugs carry.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -35,6 +35,8 @@ pub enum AttrType {
     Mesh,
     /// A B-spline curve (shared, copy-on-write).
     Curve,
+    /// A B-spline (NURBS) surface (shared, copy-on-write).
+    Surface,
     /// Sparse skin weights (shared, copy-on-write).
     Weights,
     /// An array of floats (shared, copy-on-write).
@@ -52,7 +54,7 @@ pub enum AttrType {
 
 impl AttrType {
     /// All types, in declaration order.
-    pub const ALL: [AttrType; 16] = [
+    pub const ALL: [AttrType; 17] = [
         AttrType::Bool,
         AttrType::Int,
         AttrType::Float,
@@ -63,6 +65,7 @@ impl AttrType {
         AttrType::String,
         AttrType::Mesh,
         AttrType::Curve,
+        AttrType::Surface,
         AttrType::Weights,
         AttrType::FloatArray,
         AttrType::IntArray,
@@ -84,6 +87,7 @@ impl AttrType {
             AttrType::String => "string",
             AttrType::Mesh => "mesh",
             AttrType::Curve => "curve",
+            AttrType::Surface => "surface",
             AttrType::Weights => "weights",
             AttrType::FloatArray => "floatArray",
             AttrType::IntArray => "intArray",
@@ -100,6 +104,7 @@ impl AttrType {
             AttrType::String
                 | AttrType::Mesh
                 | AttrType::Curve
+                | AttrType::Surface
                 | AttrType::Weights
                 | AttrType::FloatArray
                 | AttrType::IntArray
@@ -133,6 +138,7 @@ impl AttrType {
             AttrType::String => Value::String(Arc::from("")),
             AttrType::Mesh => Value::Mesh(Arc::default()),
             AttrType::Curve => Value::Curve(Arc::default()),
+            AttrType::Surface => Value::Surface(Arc::default()),
             AttrType::Weights => Value::Weights(Arc::default()),
             AttrType::FloatArray => Value::FloatArray(Arc::default()),
             AttrType::IntArray => Value::IntArray(Arc::default()),
@@ -172,6 +178,8 @@ pub enum Value {
     Mesh(Arc<Mesh>),
     /// See [`AttrType::Curve`].
     Curve(Arc<Curve>),
+    /// See [`AttrType::Surface`].
+    Surface(Arc<Surface>),
     /// See [`AttrType::Weights`].
     Weights(Arc<Weights>),
     /// See [`AttrType::FloatArray`].
@@ -200,6 +208,7 @@ impl Value {
             Value::String(_) => AttrType::String,
             Value::Mesh(_) => AttrType::Mesh,
             Value::Curve(_) => AttrType::Curve,
+            Value::Surface(_) => AttrType::Surface,
             Value::Weights(_) => AttrType::Weights,
             Value::FloatArray(_) => AttrType::FloatArray,
             Value::IntArray(_) => AttrType::IntArray,
@@ -254,6 +263,18 @@ impl Value {
             (Value::Curve(a), Value::Curve(b)) => {
                 Arc::ptr_eq(a, b)
                     || (a.degree == b.degree && a.form == b.form && v3(&a.points, &b.points) && fs(&a.knots, &b.knots))
+            }
+            (Value::Surface(a), Value::Surface(b)) => {
+                Arc::ptr_eq(a, b)
+                    || (a.degree_u == b.degree_u
+                        && a.degree_v == b.degree_v
+                        && a.form_u == b.form_u
+                        && a.form_v == b.form_v
+                        && a.count_u == b.count_u
+                        && a.count_v == b.count_v
+                        && v3(&a.points, &b.points)
+                        && fs(&a.knots_u, &b.knots_u)
+                        && fs(&a.knots_v, &b.knots_v))
             }
             (Value::Weights(a), Value::Weights(b)) => {
                 Arc::ptr_eq(a, b) || (a.offsets == b.offsets && a.joints == b.joints && f32s(&a.weights, &b.weights))
@@ -325,6 +346,11 @@ impl fmt::Display for Value {
                 mesh.triangles.len()
             ),
             Value::Curve(c) => write!(f, "<curve: degree {}, {} points>", c.degree, c.points.len()),
+            Value::Surface(c) => write!(
+                f,
+                "<surface: degree {}x{}, {}x{} points>",
+                c.degree_u, c.degree_v, c.count_u, c.count_v
+            ),
             Value::Weights(w) => write!(f, "<weights: {} vertices>", w.vertex_count()),
             Value::FloatArray(a) => write!(f, "{:?}", a.as_slice()),
             Value::IntArray(a) => write!(f, "{:?}", a.as_slice()),
@@ -449,6 +475,7 @@ attr_value!(DMat4, Matrix, Matrix);
 attr_value!(Arc<str>, String, String);
 attr_value!(Arc<Mesh>, Mesh, Mesh);
 attr_value!(Arc<Curve>, Curve, Curve);
+attr_value!(Arc<Surface>, Surface, Surface);
 attr_value!(Arc<Weights>, Weights, Weights);
 attr_value!(Arc<Vec<f64>>, FloatArray, FloatArray);
 attr_value!(Arc<Vec<i64>>, IntArray, IntArray);
@@ -514,6 +541,7 @@ macro_rules! shared_data {
 
 shared_data!(Mesh, Mesh);
 shared_data!(Curve, Curve);
+shared_data!(Surface, Surface);
 shared_data!(Weights, Weights);
 shared_data!(Vec<f64>, FloatArray);
 shared_data!(Vec<i64>, IntArray);

@@ -96,7 +96,7 @@ mod tests {
     use glam::{DMat4, DVec3, Vec3};
 
     use super::*;
-    use crate::data::{Mesh, Weights};
+    use crate::data::{CurveForm, Mesh, Surface, Weights};
 
     #[test]
     fn heavy_values_round_trip_bit_for_bit() {
@@ -112,6 +112,17 @@ mod tests {
                 normals: vec![Vec3::Z; 3],
                 uvs: Vec::new(),
                 triangles: vec![[0, 1, 2]],
+            })),
+            Value::Surface(Arc::new(Surface {
+                degree_u: 2,
+                degree_v: 1,
+                form_u: CurveForm::Periodic,
+                form_v: CurveForm::Open,
+                count_u: 3,
+                count_v: 2,
+                points: (0..6).map(|i| DVec3::new(i as f64, 0.5, -0.0)).collect(),
+                knots_u: Vec::new(),
+                knots_v: vec![0.0, 0.0, 1.0, 1.0],
             })),
         ];
         for v in values {

@@ -320,7 +320,8 @@ pub fn retarget_with(
     target.set_time(time);
     let times = Arc::new(
         (0..bvh.frame_count)
-            .map(|f| (f as f64 * bvh.frame_time) as f32 as f64)
+            // Key `f` at the very seconds rig frame `f` plays at, so frames land on keys.
+            .map(|f| Time::new(f as f64, report.fps).seconds())
             .collect::<Vec<f64>>(),
     );
     let mut curves: HashMap<usize, String> = HashMap::new();

@@ -336,6 +336,7 @@ fn number_count(v: &Value) -> usize {
         Value::Mesh(m) => 3 * (m.positions.len() + m.normals.len() + m.triangles.len()) + 2 * m.uvs.len(),
         Value::Weights(w) => w.offsets.len() + 2 * w.joints.len(),
         Value::Curve(c) => 3 * c.points.len() + c.knots.len(),
+        Value::Surface(c) => 3 * c.points.len() + c.knots_u.len() + c.knots_v.len(),
         _ => 0,
     }
 }

@@ -22,6 +22,8 @@ pub mod mathnodes;
 pub mod matrix;
 pub mod mush;
 pub mod nonlinear;
+pub mod nurbs;
+pub mod pin;
 pub mod quat;
 #[cfg(feature = "skeletonize")]
 pub mod skeletonize;
@@ -48,6 +50,8 @@ pub fn register_all(registry: &mut Registry) -> Result<(), SpecError> {
     mush::register(registry)?;
     wire::register(registry)?;
     wrap::register(registry)?;
+    nurbs::register(registry)?;
+    pin::register(registry)?;
     #[cfg(feature = "skeletonize")]
     skeletonize::register(registry)?;
     Ok(())

@@ -240,6 +240,19 @@ impl Serialize for Json<'_> {
                 m.serialize_entry("knots", &c.knots)?;
                 m.end()
             }
+            Value::Surface(c) => {
+                let form = |f| match f {
+                    sinew_core::data::CurveForm::Open => "open",
+                    sinew_core::data::CurveForm::Periodic => "periodic",
+                };
+                let mut m = s.serialize_map(Some(6))?;
+                m.serialize_entry("degree", &[c.degree_u, c.degree_v])?;
+                m.serialize_entry("form", &[form(c.form_u), form(c.form_v)])?;
+                m.serialize_entry("count", &[c.count_u, c.count_v])?;
+                m.serialize_entry("points", &c.points.iter().map(|p| p.to_array()).collect::<Vec<_>>())?;
+                m.serialize_entry("knots", &[&c.knots_u, &c.knots_v])?;
+                m.end()
+            }
             Value::Object(_) => s.serialize_str("<object>"),
         }
     }

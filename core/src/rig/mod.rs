@@ -36,6 +36,7 @@ pub mod parse;
 mod save;
 mod source;
 pub mod typed;
+mod typed_surface;
 
 #[cfg(test)]
 mod tests;

@@ -10,6 +10,7 @@ use glam::{DMat4, DQuat, DVec3, Vec2, Vec3};
 
 use super::diag::{Diagnostic, Span};
 use super::parse::{Ast, Item, Node};
+use super::typed_surface::{degree, form, knots, points, read_surface, write_surface};
 use crate::data::{Curve, CurveForm, Mesh, Weights};
 use crate::spec::AttrSpec;
 use crate::value::{AttrType, Value};
@@ -35,6 +36,9 @@ pub fn example(ty: AttrType, attr: Option<&AttrSpec>) -> String {
         AttrType::Vec3Array => "[(0, 0, 0), (1, 0, 0)]".into(),
         AttrType::MatrixArray => "[(16 numbers), (16 numbers)]".into(),
         AttrType::Curve => "(degree: 3, points: [(0, 0, 0), (1, 0, 0), (2, 1, 0), (3, 1, 0)])".into(),
+        AttrType::Surface => {
+            "(degreeU: 1, degreeV: 1, points: [[(0, 0, 0), (0, 0, 1)], [(1, 0, 0), (1, 0, 1)]])".into()
+        }
         AttrType::Mesh => "(positions: [(0, 0, 0), (1, 0, 0), (0, 1, 0)], triangles: [(0, 1, 2)])".into(),
         AttrType::Weights => "[[(0, 1.0)], [(0, 0.5), (1, 0.5)]] (per vertex: (joint, weight) pairs)".into(),
         AttrType::Object => "nothing: object attributes are computed, not written".into(),
@@ -61,13 +65,13 @@ fn non_finite(n: &Node, what: &str) -> Option<Diagnostic> {
     })
 }
 
-fn number(n: &Node, what: &str) -> Result<f64, Diagnostic> {
+pub(super) fn number(n: &Node, what: &str) -> Result<f64, Diagnostic> {
     n.kind
         .as_f64()
         .ok_or_else(|| non_finite(n, what).unwrap_or_else(|| wrong(n, what, AttrType::Float, None)))
 }
 
-fn numbers<const N: usize>(n: &Node, what: &str, ty: AttrType) -> Result<[f64; N], Diagnostic> {
+pub(super) fn numbers<const N: usize>(n: &Node, what: &str, ty: AttrType) -> Result<[f64; N], Diagnostic> {
     let items = n.kind.tuple_items().ok_or_else(|| wrong(n, what, ty, None))?;
     if items.len() != N {
         return Err(Diagnostic::new(
@@ -97,7 +101,7 @@ fn numbers<const N: usize>(n: &Node, what: &str, ty: AttrType) -> Result<[f64; N
 
 /// An integer literal, or `-0` (which the parser reads as the float -0.0, as RON reads
 /// it into a float).
-fn int_of(a: &Ast) -> Option<i64> {
+pub(super) fn int_of(a: &Ast) -> Option<i64> {
     match *a {
         Ast::Int(i) => Some(i),
         Ast::Float(x) if x == 0.0 && x.is_sign_negative() => Some(0),
@@ -105,14 +109,19 @@ fn int_of(a: &Ast) -> Option<i64> {
     }
 }
 
-fn list<'a>(n: &'a Node, what: &str, ty: AttrType) -> Result<&'a [Node], Diagnostic> {
+pub(super) fn list<'a>(n: &'a Node, what: &str, ty: AttrType) -> Result<&'a [Node], Diagnostic> {
     match &n.kind {
         Ast::List(v) => Ok(v),
         _ => Err(wrong(n, what, ty, None)),
     }
 }
 
-fn fields<'a>(n: &'a Node, what: &str, ty: AttrType, allowed: &[&str]) -> Result<Vec<(&'a str, &'a Node)>, Diagnostic> {
+pub(super) fn fields<'a>(
+    n: &'a Node,
+    what: &str,
+    ty: AttrType,
+    allowed: &[&str],
+) -> Result<Vec<(&'a str, &'a Node)>, Diagnostic> {
     let Ast::Group { name: None, items } = &n.kind else {
         return Err(wrong(n, what, ty, None));
     };
@@ -226,43 +235,15 @@ pub fn read_value(n: &Node, ty: AttrType, attr: Option<&AttrSpec>, what: &str) -
             let mut c = Curve::default();
             for (k, v) in fields(n, what, ty, &["degree", "points", "knots", "form"])? {
                 match k {
-                    "degree" => match int_of(&v.kind) {
-                        Some(d) if (1..=7).contains(&d) => c.degree = d as u32,
-                        _ => {
-                            return Err(
-                                Diagnostic::new(v.span.clone(), "curve degree must be an integer from 1 to 7")
-                                    .hint("e.g. degree: 3"),
-                            )
-                        }
-                    },
-                    "points" => {
-                        c.points = list(v, what, AttrType::Vec3Array)?
-                            .iter()
-                            .map(|x| numbers::<3>(x, what, AttrType::Vec3).map(DVec3::from_array))
-                            .collect::<Result<_, _>>()?
-                    }
-                    "knots" => {
-                        c.knots = list(v, what, AttrType::FloatArray)?
-                            .iter()
-                            .map(|x| number(x, what))
-                            .collect::<Result<_, _>>()?
-                    }
-                    _ => {
-                        c.form = match v.kind.as_str() {
-                            Some("open") => CurveForm::Open,
-                            Some("periodic") => CurveForm::Periodic,
-                            _ => {
-                                return Err(
-                                    Diagnostic::new(v.span.clone(), "curve form must be `open` or `periodic`")
-                                        .hint("e.g. form: periodic"),
-                                )
-                            }
-                        }
-                    }
+                    "degree" => c.degree = degree(v, "curve")?,
+                    "points" => c.points = points(v, what)?,
+                    "knots" => c.knots = knots(v, what)?,
+                    _ => c.form = form(v, "curve")?,
                 }
             }
             Value::Curve(Arc::new(c))
         }
+        AttrType::Surface => read_surface(n, what)?,
         AttrType::Mesh => {
             let mut m = Mesh::default();
             let v3 = |x: &Node| {
@@ -349,7 +330,7 @@ pub(super) fn synth(kind: Ast) -> Node {
     )
 }
 
-fn fl(x: f64) -> Node {
+pub(super) fn fl(x: f64) -> Node {
     synth(Ast::Float(x))
 }
 
@@ -358,14 +339,14 @@ fn f32n(x: f32) -> Node {
     fl(format!("{x:?}").parse::<f64>().unwrap_or(x as f64))
 }
 
-fn tuple(items: Vec<Node>) -> Ast {
+pub(super) fn tuple(items: Vec<Node>) -> Ast {
     Ast::Group {
         name: None,
         items: items.into_iter().map(|value| Item { key: None, value }).collect(),
     }
 }
 
-fn strukt(items: Vec<(&str, Ast)>) -> Ast {
+pub(super) fn strukt(items: Vec<(&str, Ast)>) -> Ast {
     let span = synth(Ast::Int(0)).span;
     Ast::Group {
         name: None,
@@ -443,6 +424,7 @@ pub fn write_value(v: &Value, attr: Option<&AttrSpec>) -> Ast {
             }
             strukt(f)
         }
+        Value::Surface(c) => write_surface(c),
         Value::Mesh(m) => {
             let v3s = |vs: &[Vec3]| {
                 Ast::List(

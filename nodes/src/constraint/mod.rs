@@ -1,4 +1,5 @@
-//! Constraints: world-space parent/point/orient/aim/scale/poleVector constraints.
+//! Constraints: world-space parent/point/orient/aim/scale/poleVector constraints, and the
+//! geometry constraints (geometry, normal, tangent, pointOnPoly).
 //!
 //! Each constraint node reads its targets' world matrices and writes local
 //! values for one constrained node ("the child") through the child's
@@ -62,27 +63,37 @@
 //! `common` (shared inputs and blends), `rotation_path` (orient and parent
 //! rotations on matrices), `parent` (parentConstraint,
 //! pointConstraint), `orient` (orientConstraint, aimConstraint), `scale`
-//! (scaleConstraint, poleVectorConstraint), `helpers` ([`constrain`],
+//! (scaleConstraint, poleVectorConstraint), `geometry` (geometryConstraint,
+//! normalConstraint, tangentConstraint, over the target geometry of `geometry_targets`),
+//! `point_on_poly` (pointOnPolyConstraint), `helpers` ([`constrain`],
 //! [`maintain_offset`]).
 
 mod common;
+mod geometry;
+mod geometry_targets;
 mod helpers;
 mod orient;
 mod parent;
+mod point_on_poly;
 mod rotation_path;
 mod scale;
 
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
+mod tests_geometry;
+#[cfg(test)]
 mod tests_helpers;
 #[cfg(test)]
 mod tests_props;
 
 pub use common::{INTERP_TYPES, ROTATE_ORDERS};
+pub use geometry::{AimAtGeometry, GeometryConstraint};
 pub use helpers::{constrain, maintain_offset, ConstraintKind};
+pub(crate) use orient::world_up;
 pub use orient::{AimConstraint, OrientConstraint, WORLD_UP_TYPES};
 pub use parent::{ParentConstraint, PointConstraint};
+pub use point_on_poly::PointOnPolyConstraint;
 pub use scale::{PoleVectorConstraint, ScaleConstraint};
 
 use sinew_core::{Registry, SpecError};
@@ -95,5 +106,9 @@ pub fn register(registry: &mut Registry) -> Result<(), SpecError> {
     registry.register(AimConstraint::new()?)?;
     registry.register(ScaleConstraint::new()?)?;
     registry.register(PoleVectorConstraint::new()?)?;
+    registry.register(GeometryConstraint::new()?)?;
+    registry.register(AimAtGeometry::normal()?)?;
+    registry.register(AimAtGeometry::tangent()?)?;
+    registry.register(PointOnPolyConstraint::new()?)?;
     Ok(())
 }

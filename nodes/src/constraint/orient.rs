@@ -15,6 +15,21 @@ use crate::transform::math::aim_matrix;
 /// default, as the `aimConstraint` command creates it).
 pub const WORLD_UP_TYPES: [&str; 5] = ["scene", "object", "objectRotation", "vector", "none"];
 
+/// The world up direction of Maya's `worldUpType` index `kind` for a node at `from`: `scene`
+/// (0) +Y, `object` (1) towards the translation of `wum`, `objectRotation` (2) `wu` turned by
+/// `wum`, `vector` (3, and unknown indices) `wu`, `none` (4) zero (no twist, for
+/// [`aim_matrix`]). Shared by the aim-like nodes (aim, normal and tangent constraints,
+/// motionPath).
+pub(crate) fn world_up(kind: i64, from: DVec3, wu: DVec3, wum: DMat4) -> DVec3 {
+    match kind {
+        0 => DVec3::Y,
+        1 => wum.w_axis.truncate() - from,
+        2 => wum.transform_vector3(wu),
+        4 => DVec3::ZERO,
+        _ => wu,
+    }
+}
+
 /// `orientConstraint`: gives the constrained node the weighted world
 /// orientation of its targets.
 ///
@@ -230,16 +245,13 @@ impl AimConstraint {
         let wu = ctx.get(self.world_up_vector);
         let wum = ctx.get(self.world_up_matrix);
         let world_up = match ctx.get(self.world_up_type) {
-            0 => DVec3::Y,
-            1 => wum.w_axis.truncate() - from,
-            2 => wum.transform_vector3(wu),
             4 => {
                 // no twist: minimal rotation in the parent's (rotation-only) frame
                 let parent_rot_inv = local_rotation(pim, DQuat::IDENTITY);
                 let dir = parent_rot_inv * (target - from);
                 return aim_matrix(DVec3::ZERO, dir, aim, up, DVec3::ZERO);
             }
-            _ => wu,
+            kind => world_up(kind, from, wu, wum),
         };
         local_rotation_mat3(&pim, aim_matrix(from, target, aim, up, world_up), DVec3::ZERO)
     }

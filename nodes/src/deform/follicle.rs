@@ -22,6 +22,14 @@
 //! A UV outside every UV triangle (or a mesh without UVs) gives `validUv = false` and the
 //! local identity frame (`outMatrix = inputWorldMatrix` without its scale).
 //!
+//! **On a NURBS surface** (ribbons): connect a `nurbsSurface`'s `local` to `inputSurface`
+//! (and its transform's worldMatrix to `inputWorldMatrix`). When `inputSurface` has control
+//! points it is used instead of `inputMesh`: `parameterU`/`parameterV` are fractions 0..1 of
+//! the surface's domains (Maya's follicles on surfaces use normalized parameters; out of range
+//! clamps, or wraps on periodic directions), the frame is X = `∂S/∂u`, Y = the normal
+//! `∂S/∂u × ∂S/∂v`, evaluated in `f64`, and `validUv` is true. The surface is validated once
+//! per change in its own group (`surfaceCache`).
+//!
 //! **closestPointOnMesh** inputs: `inMesh`, `inPosition` (world space), `inputMatrix` (the
 //! mesh's world matrix). Outputs (Maya's `result` children): `position`, `normal`,
 //! `parameterU`, `parameterV`, `closestFaceIndex` (a *triangle* index: meshes here are
@@ -40,6 +48,7 @@ use sinew_core::{ComputeContext, ComputeError, Input, Mesh, NodeSpec, NodeType, 
 use super::closest_point::MeshIndex;
 use super::mesh_nodes::cofactor;
 use super::surface::{evaluate, point_at_uv, SurfacePoint, UvIndex};
+use crate::nurbs::cache::{surface_of, SurfaceIn};
 use crate::transform::dag_nodes::rad_to_deg;
 use crate::transform::math::{quat_to_euler, RotateOrder};
 
@@ -66,6 +75,26 @@ pub fn world_frame(world: &DMat4, position: Vec3, normal: Vec3, tangent: Vec3) -
     (DMat3::from_cols(x, y, x.cross(y)), p)
 }
 
+/// [`world_frame`] in `f64` throughout (for NURBS surfaces, whose points are `f64`): the
+/// normal goes through the cofactor of the matrix's 3x3 part, the tangent through the matrix
+/// and is made orthogonal to the normal. Returns (rotation columns X = tangent, Y = normal,
+/// Z = X × Y; position).
+pub fn world_frame_f64(world: &DMat4, position: DVec3, normal: DVec3, tangent: DVec3) -> (DMat3, DVec3) {
+    let m3 = DMat3::from_mat4(*world);
+    let p = world.transform_point3(position);
+    let cof = DMat3::from_cols(
+        m3.y_axis.cross(m3.z_axis),
+        m3.z_axis.cross(m3.x_axis),
+        m3.x_axis.cross(m3.y_axis),
+    );
+    let y = (cof * normal).try_normalize().unwrap_or(DVec3::Y);
+    let tw = m3 * tangent;
+    let x = (tw - y * y.dot(tw))
+        .try_normalize()
+        .unwrap_or_else(|| y.any_orthonormal_vector());
+    (DMat3::from_cols(x, y, x.cross(y)), p)
+}
+
 /// Euler angles in degrees (xyz order) of a rotation matrix.
 pub fn rotate_degrees(rot: &DMat3) -> DVec3 {
     rad_to_deg(quat_to_euler(DQuat::from_mat3(rot), RotateOrder::Xyz))
@@ -80,6 +109,7 @@ pub struct Follicle {
     u: Input<f64>,
     v: Input<f64>,
     uv_index: Output<ObjectRef>,
+    surface: SurfaceIn,
     out_translate: Output<DVec3>,
     out_rotate: Output<DVec3>,
     out_matrix: Output<DMat4>,
@@ -95,6 +125,7 @@ impl Follicle {
         // Maya's short names (see docs/rig-format.md, "Maya short names").
         s.maya_names(&[
             ("inputWorldMatrix", "iwm"),
+            ("inputSurface", "is"),
             ("parameterU", "pu"),
             ("parameterV", "pv"),
             ("outTranslate", "ot"),
@@ -107,6 +138,11 @@ impl Follicle {
         let u = s.input("parameterU", 0.0);
         let v = s.input("parameterV", 0.0);
         let uv_index = s.output("uvIndex", ObjectRef::default());
+        let surface = SurfaceIn::declare(
+            &mut s,
+            "inputSurface",
+            "a NURBS surface to stick to instead of inputMesh (used when it has control points)",
+        );
         let out_translate = s.output("outTranslate", DVec3::ZERO);
         let out_rotate = s.output("outRotate", DVec3::ZERO);
         let out_matrix = s.output("outMatrix", DMat4::IDENTITY);
@@ -131,7 +167,14 @@ impl Follicle {
             .attr_doc(valid_uv, "whether (u, v) lies on the mesh's UVs");
         s.affects(&[uv_mesh.id()], &[uv_index.id()]);
         s.affects(
-            &[uv_index.id(), input_mesh.id(), world.id(), u.id(), v.id()],
+            &[
+                uv_index.id(),
+                surface.cache.id(),
+                input_mesh.id(),
+                world.id(),
+                u.id(),
+                v.id(),
+            ],
             &[
                 out_translate.id(),
                 out_rotate.id(),
@@ -149,6 +192,7 @@ impl Follicle {
             u,
             v,
             uv_index,
+            surface,
             out_translate,
             out_rotate,
             out_matrix,
@@ -160,21 +204,32 @@ impl Follicle {
 
     fn locate(&self, ctx: &ComputeContext<'_>, mesh: &Mesh) -> Result<Option<SurfacePoint>, ComputeError> {
         let (u, v) = (ctx.get(self.u) as f32, ctx.get(self.v) as f32);
-        let cache_ref = ctx.get_output(self.uv_index);
-        match cache_ref.downcast::<FollicleUvCache>() {
-            Some(c) if !c.mesh.triangles.is_empty() => {
-                if c.mesh.triangles.len() != mesh.triangles.len() {
-                    return Err(ComputeError::new(format!(
-                        "follicle: uvMesh has {} triangles but inputMesh has {}; connect the undeformed version of inputMesh to uvMesh",
-                        c.mesh.triangles.len(),
-                        mesh.triangles.len()
-                    )));
-                }
-                Ok(c.index.locate(&c.mesh, u, v).and_then(|(t, b)| evaluate(mesh, t, b)))
-            }
-            _ => Ok(point_at_uv(mesh, u, v)),
-        }
+        locate_uv(&ctx.get_output(self.uv_index), mesh, u, v).map_err(|e| ComputeError::new(format!("follicle: {e}")))
     }
+}
+
+/// The point of `mesh` at UV `(u, v)`: through the [`FollicleUvCache`] in `cache` when it
+/// holds a UV mesh (which must have `mesh`'s triangle count), else by scanning `mesh`.
+pub fn locate_uv(cache: &ObjectRef, mesh: &Mesh, u: f32, v: f32) -> Result<Option<SurfacePoint>, String> {
+    match cache.downcast::<FollicleUvCache>() {
+        Some(c) if !c.mesh.triangles.is_empty() => {
+            if c.mesh.triangles.len() != mesh.triangles.len() {
+                return Err(format!(
+                    "the UV mesh has {} triangles but the deformed mesh has {}; connect the undeformed version of the deformed mesh",
+                    c.mesh.triangles.len(),
+                    mesh.triangles.len()
+                ));
+            }
+            Ok(c.index.locate(&c.mesh, u, v).and_then(|(t, b)| evaluate(mesh, t, b)))
+        }
+        _ => Ok(point_at_uv(mesh, u, v)),
+    }
+}
+
+/// The [`FollicleUvCache`] of `mesh` as an object value.
+pub fn uv_cache(mesh: Arc<Mesh>) -> ObjectRef {
+    let index = UvIndex::build(&mesh);
+    ObjectRef::new(FollicleUvCache { index, mesh })
 }
 
 impl NodeType for Follicle {
@@ -185,16 +240,28 @@ impl NodeType for Follicle {
     fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
         if ctx.wants(self.uv_index) {
             let mesh = ctx.get(self.uv_mesh);
-            let index = UvIndex::build(&mesh);
-            ctx.set(self.uv_index, ObjectRef::new(FollicleUvCache { index, mesh }));
+            ctx.set(self.uv_index, uv_cache(mesh));
             return Ok(());
         }
-        let mesh = ctx.get(self.input_mesh);
+        if self.surface.compute(ctx) {
+            return Ok(());
+        }
         let world = ctx.get(self.world);
-        let hit = self.locate(ctx, &mesh)?;
-        let (rot, p) = match hit {
-            Some(sp) => world_frame(&world, sp.position, sp.normal, sp.tangent_u),
-            None => world_frame(&world, Vec3::ZERO, Vec3::Y, Vec3::X),
+        let surface = self.surface.get(ctx);
+        let (rot, p, valid) = if let Some(s) = surface_of(&surface, "follicle.inputSurface")? {
+            let (u, v) = (ctx.get(self.u), ctx.get(self.v));
+            let sp = s.eval(s.dir_u().from_fraction(u), s.dir_v().from_fraction(v));
+            let n = s.normal(&sp, DVec3::Y);
+            let (rot, p) = world_frame_f64(&world, sp.position, n, sp.du);
+            (rot, p, true)
+        } else {
+            let mesh = ctx.get(self.input_mesh);
+            let hit = self.locate(ctx, &mesh)?;
+            let (rot, p) = match hit {
+                Some(sp) => world_frame(&world, sp.position, sp.normal, sp.tangent_u),
+                None => world_frame(&world, Vec3::ZERO, Vec3::Y, Vec3::X),
+            };
+            (rot, p, hit.is_some())
         };
         ctx.set(self.out_translate, p);
         ctx.set(self.out_rotate, rotate_degrees(&rot));
@@ -209,7 +276,7 @@ impl NodeType for Follicle {
         );
         ctx.set(self.out_normal, rot.y_axis);
         ctx.set(self.out_tangent, rot.x_axis);
-        ctx.set(self.valid_uv, hit.is_some());
+        ctx.set(self.valid_uv, valid);
         Ok(())
     }
 }

@@ -79,41 +79,12 @@ impl BSpline {
         }
         let periodic = curve.form == CurveForm::Periodic;
         self.periodic = periodic;
-        let knots = &mut self.knots;
-        if curve.knots.is_empty() {
-            if periodic {
-                points.extend_from_within(0..p);
-                knots.extend((0..points.len() + p + 1).map(|j| j as f64 - p as f64));
-            } else {
-                let n = points.len();
-                knots.extend((0..n + p + 1).map(|j| (j.saturating_sub(p)).min(n - p) as f64));
-            }
-        } else {
-            let n = points.len();
-            let padded = curve.knots.len() + 2 == n + p + 1;
-            if padded {
-                knots.push(curve.knots[0]);
-            }
-            knots.extend_from_slice(&curve.knots);
-            if padded {
-                knots.push(curve.knots[curve.knots.len() - 1]);
-            }
-            if knots.len() != n + p + 1 {
-                return Err(format!(
-                    "{n} points of degree {p} need {} knots (or Maya's {}), got {}",
-                    n + p + 1,
-                    n + p - 1,
-                    curve.knots.len()
-                ));
-            }
-            if knots.iter().any(|x| !x.is_finite()) || knots.windows(2).any(|w| w[0] > w[1]) {
-                return Err("knots must be finite and non-decreasing".into());
-            }
+        if periodic && curve.knots.is_empty() {
+            points.extend_from_within(0..p);
         }
+        build_knots(p, points.len(), &curve.knots, periodic, &mut self.knots)?;
+        let knots = &self.knots;
         let n = points.len();
-        if knots[p] >= knots[n] {
-            return Err("the curve's parameter domain is empty (repeated knots)".into());
-        }
         self.dpoints.extend((0..n - 1).map(|i| {
             let den = knots[i + p + 1] - knots[i + 1];
             if den > 0.0 {
@@ -294,6 +265,47 @@ fn de_boor_in_place(p: usize, knots: &[f64], k: usize, t: f64, d: &mut [DVec3]) 
         }
     }
     d[p]
+}
+
+/// The knot vector of `n` control points of degree `p >= 1` (`n > p`) into `out`, by the
+/// rules in the module docs: `explicit` empty gives uniform knots (clamped when open;
+/// unclamped when `periodic`, where `n` already counts the `p` wrapped points), otherwise
+/// `explicit` is taken as `n + p + 1` knots or Maya's `n + p - 1` (the two outer knots
+/// padded by repetition). Checks count, finiteness, order and a non-empty domain
+/// (`knots[p] < knots[n]`); the error says what to fix.
+pub fn build_knots(p: usize, n: usize, explicit: &[f64], periodic: bool, out: &mut Vec<f64>) -> Result<(), String> {
+    out.clear();
+    if explicit.is_empty() {
+        if periodic {
+            out.extend((0..n + p + 1).map(|j| j as f64 - p as f64));
+        } else {
+            out.extend((0..n + p + 1).map(|j| (j.saturating_sub(p)).min(n - p) as f64));
+        }
+    } else {
+        let padded = explicit.len() + 2 == n + p + 1;
+        if padded {
+            out.push(explicit[0]);
+        }
+        out.extend_from_slice(explicit);
+        if padded {
+            out.push(explicit[explicit.len() - 1]);
+        }
+        if out.len() != n + p + 1 {
+            return Err(format!(
+                "{n} points of degree {p} need {} knots (or Maya's {}), got {}",
+                n + p + 1,
+                n + p - 1,
+                explicit.len()
+            ));
+        }
+        if out.iter().any(|x| !x.is_finite()) || out.windows(2).any(|w| w[0] > w[1]) {
+            return Err("knots must be finite and non-decreasing".into());
+        }
+    }
+    if out[p] >= out[n] {
+        return Err("the parameter domain is empty (repeated knots)".into());
+    }
+    Ok(())
 }
 
 /// Cumulative chord length against parameter, sampled densely, for arc-length lookups.

@@ -1,5 +1,6 @@
-//! Inverse kinematics: pure solvers (two-bone, rotate-plane, CCD/FABRIK, spline) and the
-//! `ikRP`, `ikSC`, `ikSpline` and `curveFromPoints` node plugins that wrap them.
+//! Inverse kinematics: pure solvers (two-bone, rotate-plane, spring, CCD/FABRIK, spline) and
+//! the `ikRP`, `ikSpring`, `ikSC`, `ikSpline` and `curveFromPoints` node plugins that wrap
+//! them.
 //!
 //! # The node pattern: rest data in, rotations out (no plug cycle)
 //!
@@ -101,7 +102,8 @@
 //! Modules: [`chain`] (description, FK, blend, shared plumbing; small geometry in `geom`), [`soft`] (stretch
 //! and soft IK), [`two_bone`] (ikRP: analytic two-bone and longer rotate-plane
 //! chains), [`iterative`] (ikSC: FABRIK and CCD), [`curve`] (B-spline evaluation and arc
-//! length) and [`spline`] (ikSpline); node plugins in [`nodes_rp`], [`nodes_sc`],
+//! length), [`spline`] (ikSpline) and [`spring`] (ikSpring's bend spread: ikRP with
+//! `springAngleBias[i]`); node plugins in [`nodes_rp`], [`nodes_sc`],
 //! [`nodes_spline`] and [`curve_node`] (shared node plumbing in `node_chain`, per-thread
 //! buffers reused across computes in `node_scratch`, so a frame allocates nothing), and
 //! the FK/IK snapping API in [`snap`].
@@ -121,6 +123,7 @@ mod rest_memo;
 pub mod snap;
 pub mod soft;
 pub mod spline;
+pub mod spring;
 pub mod two_bone;
 
 pub use node_chain::{
@@ -136,7 +139,7 @@ mod tests_fast;
 #[cfg(test)]
 mod tests_nodes;
 #[cfg(test)]
-mod tests_nodes_robust;
+pub(crate) mod tests_nodes_robust;
 #[cfg(test)]
 mod tests_nodes_spline;
 #[cfg(test)]
@@ -147,10 +150,13 @@ mod tests_shortcuts;
 mod tests_snap;
 #[cfg(test)]
 mod tests_spline;
+#[cfg(test)]
+mod tests_spring;
 
-/// Registers this family's node types: `ikRP`, `ikSC`, `ikSpline` and `curveFromPoints`.
+/// Registers this family's node types: `ikRP`, `ikSpring`, `ikSC`, `ikSpline` and `curveFromPoints`.
 pub fn register(registry: &mut sinew_core::Registry) -> Result<(), sinew_core::SpecError> {
     registry.register(nodes_rp::IkRp::new()?)?;
+    registry.register(nodes_rp::IkRp::spring()?)?;
     registry.register(nodes_sc::IkSc::new()?)?;
     registry.register(nodes_spline::IkSpline::new()?)?;
     registry.register(curve_node::CurveFromPoints::new()?)?;

@@ -29,6 +29,9 @@ pub(super) struct Solvers {
     pub rp: RpScratch,
     /// ikSpline's buffers.
     pub spline: SplineScratch,
+    /// ikSpring's `springAngleBias` elements, `(joint, bias)` in index order (refilled by
+    /// every ikSpring compute).
+    pub spring_bias: Vec<(u32, f64)>,
 }
 
 /// Per-thread buffers of the IK node computes. Every compute refills what it uses, so

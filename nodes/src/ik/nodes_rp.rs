@@ -1,14 +1,14 @@
 //! The `ikRP` node (rotate-plane IK with pole vector and twist) and the goal/stretch inputs it shares with `ikSC`.
 
 use glam::{DMat4, DVec3};
-use sinew_core::{ComputeContext, ComputeError, Input, NodeSpec, NodeType, SpecBuilder, SpecError, Unit};
+use sinew_core::{ComputeContext, ComputeError, Input, MultiInput, NodeSpec, NodeType, SpecBuilder, SpecError, Unit};
 
 use super::chain::{mat_finite, Chain, IkError, IkSolution};
 use super::iterative::IterParams;
 use super::node_chain::{ChainInputs, ChainOutputs, ErrorKind, ErrorValue};
 use super::node_scratch::{with_node_scratch, Needed, NodeScratch, Solvers};
 use super::soft::ReachParams;
-use super::two_bone::{solve_rotate_plane_into, RpParams, RpWanted};
+use super::two_bone::{solve_plane_into, solve_rotate_plane_into, RpParams, RpWanted};
 
 /// Largest accepted `maxIterations` (bigger values are clamped to it).
 pub const MAX_ITERATIONS_CAP: i64 = 100_000;
@@ -155,22 +155,40 @@ pub(super) fn solve_and_write(
 /// (degrees) turns that plane about the start→goal axis. A zero or collinear pole keeps
 /// the chain's rest bend plane (Maya sets the pole from that plane when a handle is
 /// created, so the default `poleVector` is zero).
+///
+/// `ikSpring` ([`IkRp::spring`]) is the same node with Maya's spring solver: chains of 4 or
+/// more joints bend by angles proportional to `springAngleBias[i]` (per joint, default 1:
+/// evenly distributed) instead of FABRIK (see [`super::spring`]).
 pub struct IkRp {
     spec: NodeSpec,
     chain: ChainInputs,
     goal: GoalInputs,
     pole_vector: Input<DVec3>,
     twist: Input<f64>,
+    spring_bias: Option<MultiInput<f64>>,
     outputs: ChainOutputs,
 }
 
 impl IkRp {
-    /// Creates the node type.
+    /// Creates the `ikRP` node type.
     pub fn new() -> Result<Self, SpecError> {
-        let mut b = NodeSpec::builder("ikRP");
+        Self::build("ikRP")
+    }
+
+    /// Creates the `ikSpring` node type (Maya's ikSpringSolver on an ikHandle).
+    pub fn spring() -> Result<Self, SpecError> {
+        Self::build("ikSpring")
+    }
+
+    fn build(name: &str) -> Result<Self, SpecError> {
+        let mut b = NodeSpec::builder(name);
         // Maya's short names (see docs/rig-format.md, "Maya short names").
         b.maya_names(&[("poleVector", "pv"), ("twist", "twi")]);
-        b.doc("rotate-plane IK: chain rest data, goal, pole vector and twist in; joint rotations out");
+        b.doc(if name == "ikSpring" {
+            "spring IK: rotate-plane IK whose bends spread over the chain by springAngleBias"
+        } else {
+            "rotate-plane IK: chain rest data, goal, pole vector and twist in; joint rotations out"
+        });
         let chain = ChainInputs::declare(&mut b);
         let goal = GoalInputs::declare(&mut b);
         let pole_vector = b.input("poleVector", DVec3::ZERO);
@@ -185,6 +203,14 @@ impl IkRp {
             "rotation of the bend plane about the start-to-goal axis (degrees)",
         );
         b.unit(twist, Unit::Degrees);
+        let spring_bias = (name == "ikSpring").then(|| {
+            let h = b.multi_input("springAngleBias", 1.0);
+            b.attr_doc(
+                h,
+                "bend of joint i relative to the others (default 1 = even; 0 = straight; all 0 = even)",
+            );
+            h
+        });
         let outputs = ChainOutputs::declare(&mut b, ErrorKind::EndToGoal);
         Ok(IkRp {
             spec: b.build()?,
@@ -192,6 +218,7 @@ impl IkRp {
             goal,
             pole_vector,
             twist,
+            spring_bias,
             outputs,
         })
     }
@@ -225,6 +252,10 @@ impl IkRp {
             pole_vector: pole,
             twist: twist.to_radians(),
         };
+        let spring = self.spring_bias.is_some();
+        if let Some(h) = self.spring_bias {
+            ctx.multi_read_into(h, &mut ns.solvers.spring_bias);
+        }
         // The node's `error` is measured from `endEffector` (another compute group), so the
         // solver skips its own error. Three joints: `solve_two_bone`, which is the
         // rotate-plane solve with default iteration settings.
@@ -235,7 +266,31 @@ impl IkRp {
                 goal.iter
             };
             let wanted = RpWanted::Pose(needed);
-            solve_rotate_plane_into(chain, goal.goal, &rp, &goal.reach, &iter, &mut solvers.rp, out, wanted);
+            let Solvers {
+                rp: scratch,
+                spring_bias,
+                ..
+            } = solvers;
+            if spring {
+                let table = &*spring_bias;
+                let bias = |i: usize| match table.binary_search_by_key(&(i as u32), |e| e.0) {
+                    Ok(k) => table[k].1,
+                    Err(_) => 1.0,
+                };
+                solve_plane_into(
+                    chain,
+                    goal.goal,
+                    &rp,
+                    &goal.reach,
+                    &iter,
+                    scratch,
+                    out,
+                    wanted,
+                    Some(&bias),
+                );
+            } else {
+                solve_rotate_plane_into(chain, goal.goal, &rp, &goal.reach, &iter, scratch, out, wanted);
+            }
         });
         Ok(())
     }

@@ -43,7 +43,9 @@ impl NodeType for NanSource {
     }
 }
 
-fn nan_graph() -> Graph {
+/// A graph over the standard registry plus `nanSource` (node `nan`: `outMatrix`, `outVector`,
+/// `outFloat` all NaN).
+pub(crate) fn nan_graph() -> Graph {
     let mut r = Registry::new();
     crate::register_all(&mut r).unwrap();
     r.register(NanSource::new().unwrap()).unwrap();

@@ -166,6 +166,24 @@ pub(super) fn solve_rotate_plane_into(
     out: &mut IkSolution,
     wanted: RpWanted,
 ) {
+    solve_plane_into(chain, goal, rp, reach_params, iter, s, out, wanted, None);
+}
+
+/// The rotate-plane solve, with chains of 4 or more joints placed by the spring solve
+/// ([`super::spring`], `bias(i)` the bias of joint `i`) instead of FABRIK when `spring` is
+/// given. Everything else (stretch, planes, pole, twist, rotations) is shared.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn solve_plane_into(
+    chain: &Chain,
+    goal: DVec3,
+    rp: &RpParams,
+    reach_params: &ReachParams,
+    iter: &IterParams,
+    s: &mut RpScratch,
+    out: &mut IkSolution,
+    wanted: RpWanted,
+    spring: Option<&dyn Fn(usize) -> f64>,
+) {
     let RpScratch {
         prep,
         rest,
@@ -242,6 +260,8 @@ pub(super) fn solve_rotate_plane_into(
         let knee = p0 + (u * c + planes.w * s) * la;
         targets.clear();
         targets.extend([p0, knee, p0 + u * d]);
+    } else if let Some(bias) = spring {
+        super::spring::spring_positions_into(p0, u, planes.w, slen, r.distance, bias, targets);
     } else {
         targets.clear();
         targets.extend(spos.iter().map(|p| p0 + a * (*p - p0)));
