@@ -30,7 +30,7 @@
 //! assembly, node, group, step) is range-checked, every slot's value is type-checked
 //! against the attributes bound to it, outputs are bound to whole slots, each
 //! attribute's elements are in increasing index order within
-//! [`MAX_ELEMENT_INDEX`](crate::MAX_ELEMENT_INDEX), input values are finite, each node
+//! [`MAX_ELEMENT_INDEX`], input values are finite, each node
 //! group has at most one step, meshes, weights and curves are valid. Corrupt or foreign
 //! bytes give an [`Error::Program`](crate::Error::Program) naming the problem. The
 //! `fuzz/` target `load_program_bytes` checks this with mutated programs whose checksum

@@ -18,7 +18,7 @@
 //! loader reads. A 60,000-frame BVH take would otherwise be an 83 MB sidecar whose syntax
 //! tree takes over a gigabyte to load; as value files it is 17 MB read at memory speed.
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 use std::fmt::Write as _;
 use std::path::Path;
 use std::sync::Arc;
@@ -69,11 +69,19 @@ pub struct RigBuilder {
     /// Connections `(source plug, destination plug)`.
     pub connections: Vec<(String, String)>,
     used: HashSet<String>,
+    next_suffix: HashMap<String, usize>,
 }
 
 /// Turns arbitrary text into a unique rig identifier (letters, digits, `_`, `:`; not
-/// starting with a digit), recording it in `used`.
-pub fn unique_name(used: &mut HashSet<String>, raw: &str, fallback: &str) -> String {
+/// starting with a digit), recording it in `used`: the text itself, else `text_1`,
+/// `text_2`, ... `next_suffix` remembers where each text's search stopped, so n nodes of
+/// one name (a BVH whose joints are all called `j`) take O(n) work in all, not O(n²).
+pub fn unique_name(
+    used: &mut HashSet<String>,
+    next_suffix: &mut HashMap<String, usize>,
+    raw: &str,
+    fallback: &str,
+) -> String {
     let mut s: String = raw
         .chars()
         .map(|c| {
@@ -91,10 +99,15 @@ pub fn unique_name(used: &mut HashSet<String>, raw: &str, fallback: &str) -> Str
         s.insert(0, '_');
     }
     let mut name = s.clone();
-    let mut k = 1;
-    while used.contains(&name) {
-        name = format!("{s}_{k}");
-        k += 1;
+    if used.contains(&name) {
+        let k = next_suffix.entry(s.clone()).or_insert(1);
+        loop {
+            name = format!("{s}_{k}");
+            *k += 1;
+            if !used.contains(&name) {
+                break;
+            }
+        }
     }
     used.insert(name.clone());
     name
@@ -112,7 +125,7 @@ impl RigBuilder {
 
     /// Reserves a unique node name derived from `raw`.
     pub fn name(&mut self, raw: &str, fallback: &str) -> String {
-        unique_name(&mut self.used, raw, fallback)
+        unique_name(&mut self.used, &mut self.next_suffix, raw, fallback)
     }
 
     /// Adds a node (its name must come from [`RigBuilder::name`]); returns its index.
@@ -475,4 +488,31 @@ fn remove_value_files(folder: &Path) {
         }
     }
     let _ = std::fs::remove_dir(folder);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Suffixes count up per name and skip names already taken, whatever order they came in.
+    #[test]
+    fn unique_names_skip_taken_suffixes_in_order() {
+        let mut b = RigBuilder::new("t", 24.0);
+        b.add("j_2", "joint", None, false);
+        let names: Vec<String> = (0..4).map(|_| b.name("j", "node")).collect();
+        assert_eq!(names, ["j", "j_1", "j_3", "j_4"]);
+        assert_eq!(b.name("9 lives", "node"), "_9_lives");
+        assert_eq!(b.name("", "node"), "node");
+        assert_eq!(b.name("", "node"), "node_1");
+    }
+
+    /// 20,000 nodes of one name get 20,000 distinct names (the search resumes where it
+    /// stopped instead of trying every suffix from 1 again).
+    #[test]
+    fn many_equal_names_stay_distinct() {
+        let mut b = RigBuilder::new("t", 24.0);
+        let names: HashSet<String> = (0..20_000).map(|_| b.name("Bone", "node")).collect();
+        assert_eq!(names.len(), 20_000);
+        assert!(names.contains("Bone_19999"));
+    }
 }

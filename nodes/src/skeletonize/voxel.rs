@@ -119,7 +119,7 @@ impl Solid {
 }
 
 /// The grid for `mesh`: `resolution` cells along the bounding box's longest side (at
-/// least 8), padded by [`PAD`] cells. `None` for a mesh without finite extent.
+/// least 8), padded by `PAD` cells. `None` for a mesh without finite extent.
 pub fn grid_for(mesh: &Mesh, resolution: usize, pad: usize) -> Option<Grid> {
     let (lo, hi) = bounds(mesh)?;
     let ext = hi - lo;
