@@ -21,10 +21,11 @@
 //! search and the interpolation (keys keep the precision the file gave them: glTF key
 //! times are `f32` values, held exactly), so the sample at 39/72 s is the spec's
 //! interpolation at 39/72 s, and time steps stay exact however long the take (at 600 s an
-//! `f32` time moves in steps of 61 µs). A time equal to a key returns that key exactly, and
-//! so does a time that rounds to the key's `f32` value (within half an `f32` ulp of it):
-//! frame 18 at 30 fps is 0.6 s in `f64`, just below the file's key `0.6f32`, and must
-//! still show that key (a STEP channel would otherwise hold the previous one).
+//! `f32` time moves in steps of 61 µs). A time equal to a key returns that key exactly. For
+//! STEP, so does a time that rounds to the key's `f32` value (within half an `f32` ulp
+//! below it): frame 18 at 30 fps is 0.6 s in `f64`, just below the file's key `0.6f32`,
+//! and must still show that key rather than hold the previous one (LINEAR and CUBICSPLINE
+//! are continuous at keys and use the exact time).
 //! Before the first key and after the last the value is clamped. STEP holds the earlier key; LINEAR
 //! lerps (rotations: spec slerp along the shorter arc, `a = acos|d|`, plain lerp when
 //! `sin a < 1e-9`); CUBICSPLINE evaluates the Hermite form with tangents scaled by the key
@@ -142,7 +143,13 @@ pub fn sample_keys(
     };
     let off = if interp == Interp::CubicSpline { width } else { 0 };
     let elem = |k: usize, o: usize| -> &[f64] { values.get(k * stride + o..k * stride + o + width).unwrap_or(&[]) };
-    let tf = snap_to_key(times, t);
+    // STEP jumps at keys: a frame meant to land on an f32 key must not hold the earlier
+    // one. LINEAR and CUBICSPLINE are continuous there and keep the exact f64 time.
+    let tf = if interp == Interp::Step {
+        snap_to_key(times, t)
+    } else {
+        t
+    };
     let after = times.partition_point(|&x| x <= tf);
     if after == 0 || after >= n || times[after - 1] == tf {
         let k = after.clamp(1, n) - 1;
