@@ -184,3 +184,38 @@ fn written_files_are_valid_ron() {
     }
     assert!(main.contains("\"c.output -> j.rotateX\""), "{main}");
 }
+
+/// `addAttr` on a control becomes sinew custom attributes that keep their type, limits,
+/// default, value and connections through the written rig: footRoll (double, -10..10,
+/// set to 3.5) drives a multiplyDivide (3.5 × 2 = 7), stretch is a bool defaulting to on,
+/// ikFk an enum set to "ik", offset a vec3 with its three children.
+#[test]
+fn add_attr_becomes_custom_attributes() {
+    let body = "createNode transform -n \"ctrl\";\n\
+        \taddAttr -ci true -k true -sn \"fr\" -ln \"footRoll\" -min -10 -max 10 -at \"double\";\n\
+        \taddAttr -ci true -sn \"st\" -ln \"stretch\" -dv 1 -min 0 -max 1 -at \"bool\";\n\
+        \taddAttr -ci true -k true -sn \"ikFk\" -ln \"ikFk\" -min 0 -max 1 -en \"fk:ik\" -at \"enum\";\n\
+        \taddAttr -ci true -sn \"off\" -ln \"offset\" -at \"double3\" -nc 3;\n\
+        \taddAttr -ci true -sn \"offx\" -ln \"offsetX\" -at \"double\" -p \"offset\";\n\
+        \taddAttr -ci true -sn \"offy\" -ln \"offsetY\" -at \"double\" -p \"offset\";\n\
+        \taddAttr -ci true -sn \"offz\" -ln \"offsetZ\" -at \"double\" -p \"offset\";\n\
+        \tsetAttr -k on \".fr\" 3.5;\n\
+        \tsetAttr -k on \".ikFk\" 1;\n\
+        \tsetAttr \".off\" -type \"double3\" 1 2 3 ;\n\
+        createNode multiplyDivide -n \"md\";\n\
+        \tsetAttr \".i2\" -type \"float3\" 2 1 1 ;\n\
+        connectAttr \"ctrl.fr\" \"md.i1x\";\n";
+    let mut g = round_trip(body);
+    assert_eq!(float(&mut g, "ctrl.footRoll"), 3.5);
+    assert_eq!(float(&mut g, "md.outputX"), 7.0);
+    assert!(g.get_path("ctrl.stretch").unwrap().same_bits(&Value::Bool(true)));
+    let ik_fk = g.get_path("ctrl.ikFk").unwrap();
+    assert!(ik_fk.same_bits(&Value::Enum(1)), "ikFk is {ik_fk}");
+    assert_eq!(vec3(&mut g, "ctrl.offset"), glam::DVec3::new(1.0, 2.0, 3.0));
+    // The limits came along: -10..10 on footRoll.
+    let ctrl = g.node_id("ctrl").unwrap();
+    let spec = g.node_spec(ctrl).unwrap();
+    let (id, _) = spec.find("footRoll").unwrap();
+    let attr = spec.attr(id);
+    assert_eq!((attr.min, attr.max), (Some(-10.0), Some(10.0)));
+}
