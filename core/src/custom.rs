@@ -9,12 +9,12 @@
 //! registered type. Custom inputs affect nothing by default; they are plugs like any
 //! other (set, connected from and to, compiled into slots, resolved by handles). A node
 //! type whose compute reads or writes custom attributes (an expression node) opts in with
-//! [`NodeType::custom_affects`](crate::NodeType::custom_affects), which may also declare
+//! [`NodeType::custom_affects`], which may also declare
 //! custom *outputs*.
 
 use std::sync::Arc;
 
-use crate::error::SpecError;
+use crate::error::{InputError, SpecError};
 use crate::kernel::ScalarKernel;
 use crate::mat_kernel::MatrixKernel;
 use crate::node::{ComputeContext, KnownInputs, NodeType};
@@ -23,7 +23,7 @@ use crate::value::{AttrType, Value};
 use crate::ComputeError;
 
 /// What a node type's custom attributes affect (see
-/// [`NodeType::custom_affects`](crate::NodeType::custom_affects)).
+/// [`NodeType::custom_affects`]).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct CustomAffects {
     /// `(input, output)` pairs: the output is a custom output; the input is one of the
@@ -390,6 +390,15 @@ impl NodeType for CustomNode {
 
     fn custom_affects(&self, custom: &[AttrSpec], first: AttrId) -> Result<CustomAffects, String> {
         self.base.custom_affects(custom, first)
+    }
+
+    fn check_input(&self, spec: &NodeSpec, attr: AttrId, value: &Value) -> Result<(), InputError> {
+        // Custom attributes come after the type's own, whose ids are unchanged.
+        if attr.index() < self.base.spec().attrs.len() {
+            self.base.check_input(spec, attr, value)
+        } else {
+            Ok(())
+        }
     }
 }
 

@@ -31,6 +31,7 @@ mod slots;
 pub mod spec;
 mod tape;
 pub mod testing;
+pub mod validate;
 pub mod value;
 pub mod value_file;
 
@@ -52,4 +53,5 @@ pub use spec::{
     AttrId, AttrSpec, ComputeGroup, DagLink, DagSpec, Direction, Input, MirrorRole, MultiInput, MultiOutput, NodeSpec,
     Output, SpecBuilder, Unit,
 };
+pub use validate::{Problem, ValidateInputs};
 pub use value::{AttrType, AttrValue, ObjectRef, SharedData, Value};

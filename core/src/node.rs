@@ -17,6 +17,7 @@ use crate::mat_kernel::MatrixKernel;
 use crate::program::{AttrBinding, Binding, CompiledTables, ElemBinding};
 use crate::slots::Slots;
 use crate::spec::{AttrId, AttrSpec, Input, MultiInput, MultiOutput, NodeSpec, Output};
+pub use crate::validate::{Problem, ValidateInputs};
 use crate::value::{AttrValue, SharedData, Value};
 
 /// A node type: its spec and its compute function.
@@ -69,6 +70,28 @@ pub trait NodeType: Send + Sync + 'static {
         Vec::new()
     }
 
+    /// Checks the node's input values for data that evaluation would refuse or silently
+    /// get wrong (a weight table shorter than its mesh, unsorted keys, a knot vector of
+    /// the wrong length), before any evaluation: `sinew check` and every rig load report
+    /// each [`Problem`] at the position of the value the rig file wrote, with the
+    /// numbers involved. `inputs` gives authored values, defaults and values arriving
+    /// from static upstream data (see [`ValidateInputs`]). The default finds nothing.
+    fn validate(&self, inputs: &ValidateInputs<'_>) -> Vec<Problem> {
+        let _ = inputs;
+        Vec::new()
+    }
+
+    /// Checks a value authored for input `attr` in a rig file beyond its type (an
+    /// expression's syntax, say), so the loader reports a mistake at its place in the file
+    /// (`file:line:col`, inside a string when [`InputError::offset`] is given) instead of
+    /// at the first evaluation. `spec` is the node's own spec (custom attributes
+    /// included). `compute` must still cope with any value (values also arrive through
+    /// `set` and connections). The default accepts everything.
+    fn check_input(&self, spec: &NodeSpec, attr: AttrId, value: &Value) -> Result<(), InputError> {
+        let _ = (spec, attr, value);
+        Ok(())
+    }
+
     /// For node types whose compute reads or writes custom attributes (an expression node
     /// whose named inputs and outputs are custom attributes): given the custom attributes
     /// of a node (their ids start at `first`), which attributes affect each custom output
@@ -90,16 +113,6 @@ pub trait NodeType: Send + Sync + 'static {
             )),
             None => Ok(CustomAffects::default()),
         }
-    }
-
-    /// Checks a value authored for input `attr` in a rig file beyond its type (an
-    /// expression's syntax, say), so the loader reports a mistake at its place in the file
-    /// (`file:line:col`, inside a string when [`InputError::offset`] is given) instead of
-    /// at the first evaluation. `compute` must still cope with any value (values also
-    /// arrive through `set` and connections). The default accepts everything.
-    fn check_input(&self, attr: AttrId, value: &Value) -> Result<(), InputError> {
-        let _ = (attr, value);
-        Ok(())
     }
 }
 

@@ -36,10 +36,8 @@ use std::sync::Arc;
 use glam::{DMat4, Mat4, Quat, Vec3};
 use sinew_core::{CompileOptions, Graph, Instance, NodeId, Plug, Program, Time, Value};
 
-use super::bake_morphs::{blend_morphs, chain_losses, BlendMorphs};
-use super::scene::{
-    AnimPath, Animation, AnimationChannel, Interpolation, MorphTarget, Node, Primitive, Scene, SceneMesh, Skin,
-};
+use super::bake_morphs::{blend_morphs, chain_losses, BlendMorphs, MorphDrive};
+use super::scene::{AnimPath, Animation, AnimationChannel, Interpolation, Node, Primitive, Scene, SceneMesh, Skin};
 
 /// Options of [`bake`].
 #[derive(Clone, Debug)]
@@ -532,72 +530,6 @@ pub fn bake(graph: &mut Graph, opts: &BakeOptions) -> Result<(Scene, Vec<String>
         .validate()
         .map_err(|e| format!("baked scene is inconsistent: {e}"))?;
     Ok((scene, warnings))
-}
-
-/// What drives a baked mesh's morph weights.
-enum MorphDrive {
-    /// A blendShape: its keys' hat-function weights.
-    Blend {
-        morphs: BlendMorphs,
-        weights: Vec<sinew_core::PlugHandle>,
-        envelope: sinew_core::PlugHandle,
-    },
-    /// The chain's final mesh, one morph target per frame.
-    Frames {
-        final_h: sinew_core::PlugHandle,
-        meshes: Vec<Arc<sinew_core::Mesh>>,
-    },
-}
-
-impl MorphDrive {
-    /// Samples the current frame (blend weights into `out`, or the final mesh).
-    fn sample(&mut self, inst: &Instance, out: &mut Vec<f32>) {
-        match self {
-            MorphDrive::Blend {
-                morphs,
-                weights,
-                envelope,
-            } => {
-                let ws: Vec<f32> = weights
-                    .iter()
-                    .map(|h| inst.get(h).as_f64().unwrap_or(0.0) as f32)
-                    .collect();
-                let env = inst.get(envelope).as_f64().unwrap_or(0.0) as f32;
-                morphs.morph_weights(&ws, env, out);
-            }
-            MorphDrive::Frames { final_h, meshes } => {
-                if let Value::Mesh(m) = inst.get(final_h) {
-                    meshes.push(m);
-                }
-            }
-        }
-    }
-
-    /// Completes the primitive (per-frame targets) and the weights; returns the number of
-    /// weights per frame.
-    fn finish(self, frames: usize, prim: &mut Primitive, weights: &mut Vec<f32>) -> usize {
-        match self {
-            MorphDrive::Blend { morphs, .. } => morphs.keys.len(),
-            MorphDrive::Frames { meshes, .. } => {
-                let Some(first) = meshes.first() else {
-                    return 0;
-                };
-                prim.mesh = (**first).clone();
-                prim.targets = meshes
-                    .iter()
-                    .map(|m| MorphTarget {
-                        positions: m.positions.iter().zip(&first.positions).map(|(a, b)| *a - *b).collect(),
-                        normals: Vec::new(),
-                    })
-                    .collect();
-                weights.clear();
-                for f in 0..frames {
-                    weights.extend((0..meshes.len()).map(|k| if k == f { 1.0 } else { 0.0 }));
-                }
-                meshes.len()
-            }
-        }
-    }
 }
 
 fn dist(a: &[f32], b: &[f32], rotation: bool) -> f64 {

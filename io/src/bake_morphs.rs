@@ -17,12 +17,14 @@
 //!   between frames). Such a mesh is not skinned in the glTF (its skin's motion is in the
 //!   morphs).
 
+use std::sync::Arc;
+
 use glam::Vec3;
-use sinew_core::{Graph, NodeId, Plug, Value};
+use sinew_core::{Graph, Instance, NodeId, Plug, Value};
 use sinew_nodes::deform::blend_shape::{Key, Target};
 use sinew_nodes::deform::blend_shape_node::BlendShapeCache;
 
-use super::scene::MorphTarget;
+use super::scene::{MorphTarget, Primitive};
 
 /// A blendShape's targets as glTF morph targets (see the module docs).
 #[derive(Clone, Debug)]
@@ -192,6 +194,77 @@ pub fn chain_losses(g: &Graph, node: NodeId) -> (Vec<String>, Option<Plug>) {
         .find_map(|a| g.plug(&format!("{}.{a}", name(g, cur))).ok())
         .or(last);
     (lost, fin)
+}
+
+/// What drives a baked mesh's morph weights.
+pub enum MorphDrive {
+    /// A blendShape: its keys' hat-function weights.
+    Blend {
+        /// The blendShape's morphs.
+        morphs: BlendMorphs,
+        /// Handles of its `weight[i]` (parallel to `weight_indices`).
+        weights: Vec<sinew_core::PlugHandle>,
+        /// Handle of its `envelope`.
+        envelope: sinew_core::PlugHandle,
+    },
+    /// The chain's final mesh, one morph target per frame.
+    Frames {
+        /// Handle of the chain's final mesh.
+        final_h: sinew_core::PlugHandle,
+        /// The final mesh of each sampled frame.
+        meshes: Vec<Arc<sinew_core::Mesh>>,
+    },
+}
+
+impl MorphDrive {
+    /// Samples the current frame (blend weights into `out`, or the final mesh).
+    pub fn sample(&mut self, inst: &Instance, out: &mut Vec<f32>) {
+        match self {
+            MorphDrive::Blend {
+                morphs,
+                weights,
+                envelope,
+            } => {
+                let ws: Vec<f32> = weights
+                    .iter()
+                    .map(|h| inst.get(h).as_f64().unwrap_or(0.0) as f32)
+                    .collect();
+                let env = inst.get(envelope).as_f64().unwrap_or(0.0) as f32;
+                morphs.morph_weights(&ws, env, out);
+            }
+            MorphDrive::Frames { final_h, meshes } => {
+                if let Value::Mesh(m) = inst.get(final_h) {
+                    meshes.push(m);
+                }
+            }
+        }
+    }
+
+    /// Completes the primitive (per-frame targets) and the weights; returns the number of
+    /// weights per frame.
+    pub fn finish(self, frames: usize, prim: &mut Primitive, weights: &mut Vec<f32>) -> usize {
+        match self {
+            MorphDrive::Blend { morphs, .. } => morphs.keys.len(),
+            MorphDrive::Frames { meshes, .. } => {
+                let Some(first) = meshes.first() else {
+                    return 0;
+                };
+                prim.mesh = (**first).clone();
+                prim.targets = meshes
+                    .iter()
+                    .map(|m| MorphTarget {
+                        positions: m.positions.iter().zip(&first.positions).map(|(a, b)| *a - *b).collect(),
+                        normals: Vec::new(),
+                    })
+                    .collect();
+                weights.clear();
+                for f in 0..frames {
+                    weights.extend((0..meshes.len()).map(|k| if k == f { 1.0 } else { 0.0 }));
+                }
+                meshes.len()
+            }
+        }
+    }
 }
 
 #[cfg(test)]

@@ -63,3 +63,6 @@ pub fn registry() -> Result<Arc<Registry>, SpecError> {
     register_all(&mut r)?;
     Ok(Arc::new(r))
 }
+
+#[cfg(test)]
+mod tests_validate;

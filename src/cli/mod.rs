@@ -57,12 +57,12 @@ enum Command {
         /// Print JSON instead of text.
         #[arg(long)]
         json: bool,
+        /// Print every node type as Markdown (what `docs/nodes.md` holds).
+        #[arg(long, conflicts_with_all = ["json", "node_type", "rig"])]
+        markdown: bool,
         /// List the attributes of a node of this rig (NODE_TYPE names the node).
         #[arg(long, value_name = "RIG")]
         rig: Option<PathBuf>,
-        /// Print every node type as Markdown (what `docs/nodes.md` holds).
-        #[arg(long, conflicts_with_all = ["json", "node_type"])]
-        markdown: bool,
     },
     /// Validate a rig: a one-line summary, or every error as file:line:col.
     Check {

@@ -390,7 +390,7 @@ impl<'a> Expander<'a> {
             return;
         }
         match self.read_attr_value(value, a.ty, Some(&a), &what) {
-            Ok(v) => match node.kind.as_ref().map(|k| k.check_input(attr, &v)) {
+            Ok(v) => match node.kind.as_ref().map(|k| k.check_input(k.spec(), attr, &v)) {
                 Some(Err(e)) => {
                     let span = e
                         .offset
@@ -405,30 +405,6 @@ impl<'a> Expander<'a> {
             },
             Err(d) => self.diags.push(d),
         }
-    }
-
-    /// Reads `attrs: {..}` into the node: each declaration is checked against the node's
-    /// type (name clashes, the type's acceptance) and the node's type gets the valid ones,
-    /// so its other fields may set them.
-    fn custom_attrs(&mut self, node: &mut FlatNode, v: &Node) {
-        let decls = super::custom_decl::read_attrs(v, &mut self.diags);
-        let Some(base) = node.kind.clone() else { return };
-        let mut ok: Vec<(AttrSpec, Span)> = Vec::new();
-        for (d, span) in decls {
-            let mut trial: Vec<AttrSpec> = ok.iter().map(|(a, _)| a.clone()).collect();
-            trial.push(d.clone());
-            match CustomNode::new(base.clone(), &trial) {
-                Ok(kind) => {
-                    node.kind = Some(Arc::new(kind));
-                    ok.push((d, span));
-                }
-                Err(e) => self.diags.push(
-                    Diagnostic::new(span, format!("custom attribute `{}`: {}", d.name, e.message))
-                        .hint(format!("`sinew nodes {}` lists the type's attributes", node.type_name)),
-                ),
-            }
-        }
-        node.custom = ok;
     }
 
     /// The file position of byte `offset` of the string value written at `lit` (a `".."`
@@ -516,6 +492,30 @@ impl<'a> Expander<'a> {
             }
         }
         Span { line, col, ..fallback }
+    }
+
+    /// Reads `attrs: {..}` into the node: each declaration is checked against the node's
+    /// type (name clashes, the type's acceptance) and the node's type gets the valid ones,
+    /// so its other fields may set them.
+    fn custom_attrs(&mut self, node: &mut FlatNode, v: &Node) {
+        let decls = super::custom_decl::read_attrs(v, &mut self.diags);
+        let Some(base) = node.kind.clone() else { return };
+        let mut ok: Vec<(AttrSpec, Span)> = Vec::new();
+        for (d, span) in decls {
+            let mut trial: Vec<AttrSpec> = ok.iter().map(|(a, _)| a.clone()).collect();
+            trial.push(d.clone());
+            match CustomNode::new(base.clone(), &trial) {
+                Ok(kind) => {
+                    node.kind = Some(Arc::new(kind));
+                    ok.push((d, span));
+                }
+                Err(e) => self.diags.push(
+                    Diagnostic::new(span, format!("custom attribute `{}`: {}", d.name, e.message))
+                        .hint(format!("`sinew nodes {}` lists the type's attributes", node.type_name)),
+                ),
+            }
+        }
+        node.custom = ok;
     }
 
     fn flat_node(&mut self, n: &NodeDecl) -> FlatNode {
@@ -997,11 +997,14 @@ pub fn load_rig_with_limits(
     let file_values = exp.file_values.take();
     drop(exp);
     let mut doc = Rc::try_unwrap(scope).map(|f| f.doc).unwrap_or_else(|rc| rc.doc.clone());
+    let mut graph = graph;
+    if diags.is_empty() {
+        super::checks::report(&flat, &mut graph, &mut diags);
+    }
     if !diags.is_empty() {
         diags.finish();
         return Err(diags);
     }
-    let mut graph = graph;
     // Canonical names for the connections each use made.
     for r in &mut records {
         r.connections = r

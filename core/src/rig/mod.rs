@@ -20,6 +20,7 @@
 mod assemble;
 mod build;
 mod canon;
+mod checks;
 #[doc(hidden)]
 pub mod comment_check;
 mod custom_decl;

@@ -42,7 +42,8 @@
 use std::f64::consts::PI;
 
 use sinew_core::{
-    ComputeContext, ComputeError, Input, MultiInput, NodeSpec, NodeType, ObjectRef, Output, SpecError, Unit,
+    ComputeContext, ComputeError, Input, MultiInput, NodeSpec, NodeType, ObjectRef, Output, Problem, SpecError, Unit,
+    ValidateInputs,
 };
 
 use super::curve::{AnimCurve, CurveError, Infinity, Key, TangentType, CLAMPED_TOLERANCE};
@@ -386,6 +387,54 @@ impl AnimCurveNode {
 impl NodeType for AnimCurveNode {
     fn spec(&self) -> &NodeSpec {
         &self.spec
+    }
+
+    /// Keys in increasing time order by index (as Maya stores them), one time per key,
+    /// and a `keyValue` for every `keyTime` and back.
+    fn validate(&self, inputs: &ValidateInputs<'_>) -> Vec<Problem> {
+        let mut out = Vec::new();
+        let times = inputs.elements(self.key_time);
+        for w in times.windows(2) {
+            let ((i, a), (j, b)) = (w[0], w[1]);
+            if b == a {
+                out.push(
+                    Problem::new(self.key_time, format!("is {b}, the same time as keyTime[{i}]"))
+                        .at(j)
+                        .hint("a curve has one key per time; move or remove one"),
+                );
+            } else if b < a {
+                out.push(
+                    Problem::new(
+                        self.key_time,
+                        format!("is {b}, before keyTime[{i}] = {a}; keys must be in increasing time order"),
+                    )
+                    .at(j)
+                    .hint("sort the keys by time (keyTime and keyValue together)"),
+                );
+            }
+        }
+        let (ti, vi) = (inputs.indices(self.key_time), inputs.indices(self.key_value));
+        if let Some(&i) = ti.iter().find(|i| !vi.contains(i)) {
+            out.push(
+                Problem::new(
+                    self.key_time,
+                    format!("has no keyValue[{i}] ({} times, {} values)", ti.len(), vi.len()),
+                )
+                .at(i)
+                .hint("give a value for every key time"),
+            );
+        }
+        if let Some(&i) = vi.iter().find(|i| !ti.contains(i)) {
+            out.push(
+                Problem::new(
+                    self.key_value,
+                    format!("has no keyTime[{i}] ({} times, {} values)", ti.len(), vi.len()),
+                )
+                .at(i)
+                .hint("give a time for every key value"),
+            );
+        }
+        out
     }
     fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
         self.run(ctx)

@@ -33,7 +33,26 @@
 use std::sync::Arc;
 
 use glam::{DQuat, DVec3};
-use sinew_core::{ComputeContext, ComputeError, Input, MultiOutput, NodeSpec, NodeType, Output, SpecError, Unit};
+use sinew_core::{
+    ComputeContext, ComputeError, Input, MultiOutput, NodeSpec, NodeType, Output, Problem, SpecError, Unit,
+    ValidateInputs,
+};
+
+/// A curve's key attributes: `keyTime`, `keyValue`, `interpolation`.
+type KeyInputs = (Input<Arc<Vec<f64>>>, Input<Arc<Vec<f64>>>, Input<i64>);
+
+/// The problem `check_keys` finds in known keys, reported on `keyTime`.
+fn keys_problem(inputs: &ValidateInputs<'_>, (time, value, interp): KeyInputs, width: usize) -> Vec<Problem> {
+    let (Some(t), Some(v), Some(i)) = (inputs.get(time), inputs.get(value), inputs.get(interp)) else {
+        return Vec::new();
+    };
+    match check_keys(&t, &v, width, Interp::from_index(i)) {
+        Ok(()) => Vec::new(),
+        Err(e) => {
+            vec![Problem::new(time, e).hint("times strictly increasing, and width values per key (3 per key for cubic)")]
+        }
+    }
+}
 
 use crate::transform::dag_nodes::{rad_to_deg, rotate_order, ROTATE_ORDERS};
 use crate::transform::euler::quat_to_euler;
@@ -246,6 +265,11 @@ impl NodeType for QuatCurve {
         &self.spec
     }
 
+    /// The keys as `compute` checks them: increasing times, 4 values per key.
+    fn validate(&self, inputs: &ValidateInputs<'_>) -> Vec<Problem> {
+        keys_problem(inputs, (self.key_time, self.key_value, self.interpolation), 4)
+    }
+
     fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
         let times = ctx.get(self.key_time);
         let values = ctx.get(self.key_value);
@@ -326,6 +350,16 @@ impl VectorCurve {
 impl NodeType for VectorCurve {
     fn spec(&self) -> &NodeSpec {
         &self.spec
+    }
+
+    /// The keys as `compute` checks them: increasing times, `width` values per key.
+    fn validate(&self, inputs: &ValidateInputs<'_>) -> Vec<Problem> {
+        match inputs.get(self.width) {
+            Some(w) if (1..=MAX_WIDTH as i64).contains(&w) => {
+                keys_problem(inputs, (self.key_time, self.key_value, self.interpolation), w as usize)
+            }
+            _ => Vec::new(),
+        }
     }
 
     fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {

@@ -36,7 +36,8 @@ use std::sync::Arc;
 
 use glam::{DVec3, Vec3};
 use sinew_core::{
-    ComputeContext, ComputeError, Input, Mesh, MultiInput, NodeSpec, NodeType, ObjectRef, Output, SpecError,
+    ComputeContext, ComputeError, Input, Mesh, MultiInput, NodeSpec, NodeType, ObjectRef, Output, Problem, SpecError,
+    ValidateInputs,
 };
 
 use super::blend_shape::{apply, InBetween, SparseDelta, Target};
@@ -264,9 +265,100 @@ impl BlendShape {
     }
 }
 
+/// A sparse target's attributes: indices and deltas.
+type SparseInputs = (MultiInput<Arc<Vec<i64>>>, MultiInput<Arc<Vec<DVec3>>>);
+
+impl BlendShape {
+    /// One sparse target (indices and deltas of element `i`) against the mesh.
+    fn check_sparse(
+        &self,
+        inputs: &ValidateInputs<'_>,
+        (hi, hd): SparseInputs,
+        i: u32,
+        n: Option<(usize, String)>,
+        out: &mut Vec<Problem>,
+    ) {
+        let name = |h: MultiInput<Arc<Vec<i64>>>| self.spec.attr(h.id()).name.clone();
+        let (idx, d) = (
+            inputs.get_at(hi, i).unwrap_or_default(),
+            inputs.get_at(hd, i).unwrap_or_default(),
+        );
+        if idx.len() != d.len() {
+            out.push(
+                Problem::new(
+                    hd,
+                    format!(
+                        "has {} deltas, but {}[{i}] has {} indices",
+                        d.len(),
+                        name(hi),
+                        idx.len()
+                    ),
+                )
+                .at(i)
+                .hint("give one delta per vertex index"),
+            );
+        }
+        if let Some((n, mesh)) = n {
+            if let Some((k, &v)) = idx.iter().enumerate().find(|(_, &v)| v < 0 || v as usize >= n) {
+                out.push(
+                    Problem::new(
+                        hi,
+                        format!("entry {k} is vertex {v}, but {mesh} has {n} vertices (0..{n})"),
+                    )
+                    .at(i)
+                    .hint("vertex indices must be vertices of the base mesh"),
+                );
+            }
+        }
+    }
+}
+
 impl NodeType for BlendShape {
     fn spec(&self) -> &NodeSpec {
         &self.spec
+    }
+
+    /// Target arrays against each other and the base mesh: as many deltas as indices,
+    /// indices within the mesh, a weight map per vertex.
+    fn validate(&self, inputs: &ValidateInputs<'_>) -> Vec<Problem> {
+        let mut out = Vec::new();
+        let n = inputs
+            .get(self.input)
+            .map(|m| m.positions.len())
+            .filter(|&n| n > 0)
+            .map(|n| {
+                let name = inputs
+                    .source_name(self.input)
+                    .map_or("the base mesh".to_string(), |s| format!("the mesh '{s}'"));
+                (n, name)
+            });
+        for (pair, ids) in [
+            ((self.indices, self.deltas), inputs.indices(self.indices)),
+            ((self.ib_indices, self.ib_deltas), inputs.indices(self.ib_indices)),
+        ] {
+            let mut ids = ids;
+            ids.extend(inputs.indices(pair.1));
+            ids.sort_unstable();
+            ids.dedup();
+            for i in ids {
+                self.check_sparse(inputs, pair, i, n.clone(), &mut out);
+            }
+        }
+        if let Some((n, mesh)) = &n {
+            for (i, map) in inputs.elements(self.weight_map) {
+                if !map.is_empty() && map.len() != *n {
+                    out.push(
+                        Problem::new(
+                            self.weight_map,
+                            format!("has {} weights, {mesh} has {n} vertices", map.len()),
+                        )
+                        .at(i)
+                        .hint("give one weight per vertex of the base mesh, or none"),
+                    );
+                }
+            }
+        }
+        out
     }
 
     fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {

@@ -49,7 +49,8 @@ use std::sync::Arc;
 
 use glam::{DMat4, Mat4, Vec3};
 use sinew_core::{
-    ComputeContext, ComputeError, Input, Mesh, MultiInput, NodeSpec, NodeType, ObjectRef, Output, SpecError, Weights,
+    ComputeContext, ComputeError, Input, Mesh, MultiInput, NodeSpec, NodeType, ObjectRef, Output, Problem, SpecError,
+    ValidateInputs, Weights,
 };
 
 use super::dual_quat::DqPalette;
@@ -354,6 +355,57 @@ fn apply_envelope(rest: &Mesh, out: &mut Mesh, envelope: f32, normals: bool) {
 impl NodeType for SkinCluster {
     fn spec(&self) -> &NodeSpec {
         &self.spec
+    }
+
+    /// Weights against the mesh and the influences: one row per vertex of the input mesh,
+    /// and every joint a weight names has a `matrix[j]` element.
+    fn validate(&self, inputs: &ValidateInputs<'_>) -> Vec<Problem> {
+        let mut out = Vec::new();
+        let Some(w) = inputs.get(self.weight_list) else {
+            return out;
+        };
+        let rows = w.vertex_count();
+        if let Some(mesh) = inputs.get(self.input) {
+            let n = mesh.positions.len();
+            if rows > 0 && n > 0 && rows != n {
+                let mesh_name = inputs
+                    .source_name(self.input)
+                    .map_or("the input mesh".to_string(), |s| format!("the mesh '{s}'"));
+                out.push(
+                    Problem::new(
+                        self.weight_list,
+                        format!("weights have {rows} rows, {mesh_name} has {n} vertices"),
+                    )
+                    .hint("give one row of (joint, weight) pairs per vertex of the input mesh, in its vertex order"),
+                );
+            }
+        }
+        let have: std::collections::HashSet<u32> = inputs.indices(self.matrix).into_iter().collect();
+        let mut missing: Option<(u32, usize, usize)> = None; // joint, first vertex, vertices
+        for v in 0..rows {
+            let (js, _) = w.influences(v);
+            if let Some(&j) = js.iter().find(|j| !have.contains(j)) {
+                let m = missing.get_or_insert((j, v, 0));
+                m.2 += 1;
+            }
+        }
+        if let Some((j, v, count)) = missing {
+            let elements = if have.is_empty() {
+                "matrix has no elements".to_string()
+            } else {
+                format!("matrix has {} elements", have.len())
+            };
+            out.push(
+                Problem::new(
+                    self.weight_list,
+                    format!(
+                        "vertex {v} is weighted to joint {j}, which has no matrix[{j}] connection ({count} vertices use joints without one; {elements})"
+                    ),
+                )
+                .hint(format!("connect the joint's worldMatrix to matrix[{j}], or weight the vertices to connected joints")),
+            );
+        }
+        out
     }
 
     fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {

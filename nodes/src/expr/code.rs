@@ -6,8 +6,9 @@
 //! compile time (number or vector), so each instruction knows what it holds.
 
 use glam::DVec3;
+use sinew_core::{AttrId, AttrType, Direction, NodeSpec};
 
-use super::parse::{BinOp, Expr, ExprError, Node, Pos, Program, Stmt, Target, MAX_PORTS};
+use super::parse::{BinOp, Expr, ExprError, Node, Port, Pos, Program, Stmt, Target, MAX_PORTS};
 use crate::math::arith::{safe_div, safe_pow};
 use crate::math::vector::{length, unit};
 use crate::math::{finite, finite3};
@@ -172,54 +173,171 @@ enum Op {
     Jump(u32),
 }
 
-/// A compiled expression: bytecode over fixed-size registers.
+/// Where a compiled expression reads a value.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Source {
+    /// `input[k]`.
+    Element(u32),
+    /// A custom float input of the node.
+    Attr(AttrId),
+}
+
+/// Where a compiled expression writes a value.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sink {
+    /// `output[k]`.
+    Element(u32),
+    /// A custom float output of the node.
+    Attr(AttrId),
+}
+
+/// A compiled expression: bytecode over fixed-size registers, and the plugs it
+/// reads (`sources`, by slot) and writes (`sinks`, by slot).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Compiled {
     code: Vec<Op>,
-    /// Declared input names, by index.
-    pub inputs: Vec<String>,
-    /// Declared output names, by index.
-    pub outputs: Vec<String>,
-    /// One more than the largest input index read.
-    pub input_count: usize,
-    /// One more than the largest output index written.
-    pub output_count: usize,
+    /// The values a run reads, by slot (the node fills them).
+    pub sources: Vec<Source>,
+    /// The values a run writes, by slot.
+    pub sinks: Vec<Sink>,
 }
 
-struct Compiler {
+impl Compiled {
+    /// Whether the expression reads or writes a custom attribute (it then writes no
+    /// `output[k]`).
+    pub fn uses_attrs(&self) -> bool {
+        self.sources.iter().any(|s| matches!(s, Source::Attr(_)))
+            || self.sinks.iter().any(|s| matches!(s, Sink::Attr(_)))
+    }
+}
+
+struct Compiler<'a> {
     code: Vec<Op>,
     /// Declared `in` names: a bare declared name reads its input.
     inputs: Vec<String>,
+    /// The node's spec (custom attributes by name), if any.
+    spec: Option<&'a NodeSpec>,
     locals: Vec<(String, Ty)>,
     depth: usize,
     max_depth: usize,
-    input_count: usize,
-    output_count: usize,
+    sources: Vec<Source>,
+    sinks: Vec<Sink>,
+    /// The first `output[k]` written and the first custom attribute used, for the rule
+    /// that an expression does not mix them.
+    element_sink: Option<Pos>,
+    attr_port: Option<Pos>,
 }
 
-/// Parses and compiles `text`.
+/// Parses and compiles `text` with no custom attributes (the plugs are `input[k]`,
+/// `output[k]` and the declared names).
 pub fn compile(text: &str) -> Result<Compiled, ExprError> {
+    compile_for(text, None)
+}
+
+/// Parses and compiles `text` for a node with `spec`: `in.name`/`out.name` (and bare
+/// names) that are not declared with `in`/`out` are the node's custom float attributes.
+pub fn compile_for(text: &str, spec: Option<&NodeSpec>) -> Result<Compiled, ExprError> {
     let prog: Program = super::parse::parse(text)?;
     let mut c = Compiler {
         code: Vec::new(),
         inputs: prog.inputs.clone(),
+        spec,
         locals: Vec::new(),
         depth: 0,
         max_depth: 0,
-        input_count: 0,
-        output_count: prog.outputs.len(),
+        sources: Vec::new(),
+        sinks: Vec::new(),
+        element_sink: None,
+        attr_port: None,
     };
     c.stmts(&prog.stmts)?;
+    if let (Some(e), Some(_)) = (c.element_sink, c.attr_port) {
+        return Err(ExprError::new(
+            e,
+            "an expression that uses custom attributes writes custom outputs only",
+        )
+        .hint("write `out.name` with `name` a custom output (attrs: {\"name\": float(output: true)})"));
+    }
     Ok(Compiled {
         code: c.code,
-        inputs: prog.inputs.clone(),
-        outputs: prog.outputs.clone(),
-        input_count: c.input_count.max(prog.inputs.len()),
-        output_count: c.output_count,
+        sources: c.sources,
+        sinks: c.sinks,
     })
 }
 
-impl Compiler {
+impl Compiler<'_> {
+    /// A custom float attribute of the node named `name`, in direction `dir`.
+    fn custom_attr(&self, name: &str, pos: Pos, dir: Direction) -> Result<AttrId, ExprError> {
+        let (word, decl) = match dir {
+            Direction::Input => ("in", "float(0)"),
+            Direction::Output => ("out", "float(output: true)"),
+        };
+        let customs = || {
+            self.spec
+                .into_iter()
+                .flat_map(|s| s.custom_attrs().iter().map(|a| a.name.as_str()))
+        };
+        let Some((spec, (id, comp))) = self.spec.and_then(|s| s.find(name).map(|f| (s, f))) else {
+            let declared = if dir == Direction::Input {
+                self.inputs.clone()
+            } else {
+                Vec::new()
+            };
+            let hint = match nearest(name, customs().chain(declared.iter().map(|s| s.as_str()))) {
+                Some(s) => format!("did you mean `{word}.{s}`?"),
+                None => format!("declare it in the text (`{word} {name}`, an element of {word}put[]) or give the node a custom attribute: attrs: {{\"{name}\": {decl}}}"),
+            };
+            return Err(ExprError::new(pos, format!("`{word}.{name}` is not declared")).hint(hint));
+        };
+        let a = spec.attr(id);
+        if comp.is_some() || !spec.is_custom(id) || a.ty != AttrType::Float || a.multi || a.direction != dir {
+            let want = if dir == Direction::Input { "input" } else { "output" };
+            return Err(
+                ExprError::new(pos, format!("`{name}` is not a custom float {want} of this node")).hint(format!(
+                    "expressions read and write the node's custom float attributes: attrs: {{\"{name}\": {decl}}}"
+                )),
+            );
+        }
+        Ok(id)
+    }
+
+    fn source_slot(&mut self, src: Source) -> Result<u8, ExprError> {
+        let slot = match self.sources.iter().position(|s| *s == src) {
+            Some(k) => k,
+            None => {
+                self.sources.push(src);
+                self.sources.len() - 1
+            }
+        };
+        Ok(slot as u8)
+    }
+
+    fn sink_slot(&mut self, dst: Sink) -> u8 {
+        let slot = match self.sinks.iter().position(|s| *s == dst) {
+            Some(k) => k,
+            None => {
+                self.sinks.push(dst);
+                self.sinks.len() - 1
+            }
+        };
+        slot as u8
+    }
+
+    fn read_port(&mut self, port: &Port, pos: Pos) -> Result<(), ExprError> {
+        let src = match port {
+            Port::Element(k) => Source::Element(*k as u32),
+            Port::Attr(name, at) => {
+                self.attr_port.get_or_insert(*at);
+                Source::Attr(self.custom_attr(name, *at, Direction::Input)?)
+            }
+        };
+        if self.sources.len() >= MAX_PORTS && !self.sources.contains(&src) {
+            return Err(ExprError::new(pos, format!("more than {MAX_PORTS} inputs read")));
+        }
+        let slot = self.source_slot(src)?;
+        self.push(Op::Input(slot), 1, pos)
+    }
+
     fn push(&mut self, op: Op, delta: isize, pos: Pos) -> Result<(), ExprError> {
         self.code.push(op);
         self.depth = (self.depth as isize + delta).max(0) as usize;
@@ -237,19 +355,40 @@ impl Compiler {
                 Stmt::Assign(target, value, pos) => {
                     let ty = self.expr(value)?;
                     match target {
-                        Target::Output(k) => {
+                        Target::Output(port) => {
                             if ty != Ty::Num {
                                 return Err(ExprError::new(value.pos, "outputs are numbers, this is a vector")
                                     .hint("write one component, e.g. `out.x = v.x`"));
                             }
-                            self.output_count = self.output_count.max(k + 1);
-                            self.push(Op::SetOutput(*k as u8), -1, *pos)?;
+                            let dst = match port {
+                                Port::Element(k) => {
+                                    self.element_sink.get_or_insert(*pos);
+                                    Sink::Element(*k as u32)
+                                }
+                                Port::Attr(name, at) => {
+                                    self.attr_port.get_or_insert(*at);
+                                    Sink::Attr(self.custom_attr(name, *at, Direction::Output)?)
+                                }
+                            };
+                            if self.sinks.len() >= MAX_PORTS && !self.sinks.contains(&dst) {
+                                return Err(ExprError::new(*pos, format!("more than {MAX_PORTS} outputs written")));
+                            }
+                            let slot = self.sink_slot(dst);
+                            self.push(Op::SetOutput(slot), -1, *pos)?;
                         }
-                        Target::Local(name) if self.inputs.contains(name) => {
-                            return Err(
-                                ExprError::new(*pos, format!("`{name}` is an input; inputs are read-only"))
-                                    .hint("assign to a new local name or to an output"),
-                            );
+                        Target::Local(name)
+                            if self.inputs.contains(name)
+                                || self
+                                    .spec
+                                    .is_some_and(|s| s.find(name).is_some_and(|(id, _)| s.is_custom(id))) =>
+                        {
+                            return Err(ExprError::new(
+                                *pos,
+                                format!(
+                                    "`{name}` is an input or a custom attribute; assign outputs as `out.{name} = ...`"
+                                ),
+                            )
+                            .hint("assign to a new local name or to an output"));
                         }
                         Target::Local(name) => {
                             let slot = match self.locals.iter().position(|(n, _)| n == name) {
@@ -309,9 +448,8 @@ impl Compiler {
                 self.push(if *frame { Op::Frame } else { Op::Time }, 1, pos)?;
                 Ok(Ty::Num)
             }
-            Expr::Input(k) => {
-                self.input_count = self.input_count.max(k + 1);
-                self.push(Op::Input(*k as u8), 1, pos)?;
+            Expr::Input(port) => {
+                self.read_port(port, pos)?;
                 Ok(Ty::Num)
             }
             Expr::Local(name) => match self.locals.iter().position(|(l, _)| l == name) {
@@ -322,16 +460,27 @@ impl Compiler {
                 }
                 None if self.inputs.contains(name) => {
                     let k = self.inputs.iter().position(|n| n == name).unwrap_or(0);
-                    self.input_count = self.input_count.max(k + 1);
-                    self.push(Op::Input(k as u8), 1, pos)?;
+                    self.read_port(&Port::Element(k), pos)?;
+                    Ok(Ty::Num)
+                }
+                None if self
+                    .spec
+                    .is_some_and(|s| s.find(name).is_some_and(|(id, _)| s.is_custom(id))) =>
+                {
+                    self.read_port(&Port::Attr(name.clone(), pos), pos)?;
                     Ok(Ty::Num)
                 }
                 None => {
+                    let customs = self
+                        .spec
+                        .into_iter()
+                        .flat_map(|s| s.custom_attrs().iter().map(|a| a.name.as_str()));
                     let names = self
                         .locals
                         .iter()
                         .map(|(l, _)| l.as_str())
-                        .chain(self.inputs.iter().map(|s| s.as_str()));
+                        .chain(self.inputs.iter().map(|s| s.as_str()))
+                        .chain(customs);
                     let hint = match nearest(name, names) {
                         Some(s) => format!("did you mean `{s}`?"),
                         None => "assign it first (`name = ...`), read an input as `in.name` or `input[k]`".into(),
@@ -443,9 +592,9 @@ impl Compiler {
     }
 }
 
-/// What an expression run reads: input elements by index and the time.
+/// What an expression run reads: its sources' values by slot and the time.
 pub struct Env<'a> {
-    /// `input[k]` (0 where absent).
+    /// The value of each source slot (`Compiled::sources`; 0 where absent).
     pub inputs: &'a [f64],
     /// Seconds.
     pub time: f64,
@@ -454,8 +603,8 @@ pub struct Env<'a> {
 }
 
 impl Compiled {
-    /// Runs the expression; writes `output[k]` into `outputs` (elements not
-    /// assigned on this run are 0). Allocates nothing.
+    /// Runs the expression; writes the value of each sink slot (`Compiled::sinks`) into
+    /// `outputs` (sinks not assigned on this run are 0). Allocates nothing.
     pub fn run(&self, env: &Env<'_>, outputs: &mut [f64]) {
         let mut stack = [DVec3::ZERO; MAX_STACK + 1];
         let mut locals = [DVec3::ZERO; MAX_LOCALS];

@@ -186,6 +186,15 @@ pub enum BinOp {
     Or,
 }
 
+/// A plug an expression reads or writes.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Port {
+    /// `input[k]` / `output[k]` (or a name declared with `in` / `out`).
+    Element(usize),
+    /// A custom attribute of the node, by name (resolved when compiling).
+    Attr(String, Pos),
+}
+
 /// An expression node.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Expr {
@@ -193,8 +202,8 @@ pub enum Expr {
     Num(f64),
     /// `time` (seconds) or `frame`.
     Time(bool),
-    /// `in.name` (resolved to its index) or `input[k]`.
-    Input(usize),
+    /// `in.name` or `input[k]`.
+    Input(Port),
     /// A local variable by name.
     Local(String),
     /// `-e`
@@ -225,8 +234,8 @@ pub struct Node {
 /// Where an assignment writes.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Target {
-    /// `out.name` or `output[k]`: the output element.
-    Output(usize),
+    /// `out.name` or `output[k]`.
+    Output(Port),
     /// A local variable.
     Local(String),
 }
@@ -427,17 +436,14 @@ impl Parser {
         Ok(k)
     }
 
-    fn named_port(&mut self, input: bool) -> Result<usize, ExprError> {
+    /// `.name` after `in`/`out`: a declared element, else a custom attribute by name.
+    fn named_port(&mut self, input: bool) -> Result<Port, ExprError> {
         self.expect_op(".", if input { "after `in`" } else { "after `out`" })?;
-        let (name, pos) = self.ident("a declared name")?;
+        let (name, pos) = self.ident("a name")?;
         let list = if input { &self.prog.inputs } else { &self.prog.outputs };
-        let dir = if input { "in" } else { "out" };
-        list.iter().position(|n| *n == name).ok_or_else(|| {
-            let hint = match crate::expr::code::nearest(&name, list.iter().map(|s| s.as_str())) {
-                Some(s) => format!("did you mean `{dir}.{s}`?"),
-                None => format!("declare it first: `{dir} {name}`"),
-            };
-            ExprError::new(pos, format!("`{dir}.{name}` is not declared")).hint(hint)
+        Ok(match list.iter().position(|n| *n == name) {
+            Some(k) => Port::Element(k),
+            None => Port::Attr(name, pos),
         })
     }
 
@@ -445,7 +451,7 @@ impl Parser {
         let (name, pos) = self.ident("a statement (`out.name = ...`, `name = ...` or `if`)")?;
         match name.as_str() {
             "out" => Ok(Target::Output(self.named_port(false)?)),
-            "output" => Ok(Target::Output(self.port_index(false)?)),
+            "output" => Ok(Target::Output(Port::Element(self.port_index(false)?))),
             n if KEYWORDS.contains(&n) || super::code::is_function(n) => {
                 Err(ExprError::new(pos, format!("cannot assign to `{n}`"))
                     .hint("assign to `out.name`, `output[k]` or a local name"))
@@ -588,7 +594,7 @@ impl Parser {
                 }
                 "input" => {
                     let k = self.port_index(true)?;
-                    node(Expr::Input(k))
+                    node(Expr::Input(Port::Element(k)))
                 }
                 "out" | "output" | "if" | "else" => Err(ExprError::new(pos, format!("`{name}` cannot be read"))
                     .hint("outputs are written (`out.x = ...`); keep a value in a local name to reuse it")),

@@ -2,7 +2,9 @@
 
 use std::sync::Arc;
 
-use sinew_core::{ComputeContext, ComputeError, Curve, Input, NodeSpec, NodeType, SpecError, Unit};
+use sinew_core::{
+    ComputeContext, ComputeError, Curve, Input, NodeSpec, NodeType, Problem, SpecError, Unit, ValidateInputs,
+};
 
 use super::chain::{IkError, IkSolution};
 use super::node_chain::{ChainInputs, ChainOutputs, ErrorKind, ErrorValue};
@@ -94,6 +96,20 @@ impl IkSpline {
 impl NodeType for IkSpline {
     fn spec(&self) -> &NodeSpec {
         &self.spec
+    }
+
+    /// A known, non-empty curve must be a valid B-spline (knot count for its degree and
+    /// points, non-decreasing knots): an invalid one would leave the chain at rest.
+    fn validate(&self, inputs: &ValidateInputs<'_>) -> Vec<Problem> {
+        match inputs.get(self.curve) {
+            Some(c) if !c.points.is_empty() => match super::curve::BSpline::new(&c) {
+                Ok(_) => Vec::new(),
+                Err(e) => vec![Problem::new(self.curve, e).hint(
+                    "knots: points + degree + 1 values (or Maya's points + degree - 1), non-decreasing; or none for uniform",
+                )],
+            },
+            _ => Vec::new(),
+        }
     }
 
     fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {

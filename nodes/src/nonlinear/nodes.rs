@@ -93,6 +93,46 @@ pub const PARAMS: [(&str, &[Param]); 6] = [
     ),
 ];
 
+/// Maya's short names of the handle shapes' attributes, as Maya's node reference lists them
+/// (`deformTwist`'s page was not at hand: its attributes have long names only).
+pub const SHORT_NAMES: [&[(&str, &str)]; 6] = [
+    &[("lowBound", "lb"), ("highBound", "hb"), ("curvature", "cur")],
+    &[],
+    &[
+        ("lowBound", "lb"),
+        ("highBound", "hb"),
+        ("startSmoothness", "ss"),
+        ("endSmoothness", "es"),
+        ("maxExpandPos", "mp"),
+        ("expand", "exp"),
+    ],
+    &[
+        ("lowBound", "lb"),
+        ("highBound", "hb"),
+        ("startFlareX", "sfx"),
+        ("startFlareZ", "sfz"),
+        ("endFlareX", "efx"),
+        ("endFlareZ", "efz"),
+        ("curve", "crv"),
+    ],
+    &[
+        ("lowBound", "lb"),
+        ("highBound", "hb"),
+        ("amplitude", "amp"),
+        ("wavelength", "wav"),
+        ("offset", "off"),
+        ("dropoff", "dr"),
+    ],
+    &[
+        ("minRadius", "mnr"),
+        ("maxRadius", "mxr"),
+        ("amplitude", "amp"),
+        ("wavelength", "wav"),
+        ("offset", "off"),
+        ("dropoff", "dr"),
+    ],
+];
+
 /// A handle shape node (`deformBend` ...): parameters in, `deformerData` out.
 pub struct DeformFunc {
     spec: NodeSpec,
@@ -116,6 +156,7 @@ impl DeformFunc {
             ins.push(h);
         }
         let data = s.output("deformerData", ObjectRef::default());
+        s.maya_names(SHORT_NAMES[kind]);
         s.attr_doc(
             data,
             "the function and its parameters (connect to nonLinear.deformerData)",

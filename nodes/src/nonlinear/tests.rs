@@ -136,3 +136,19 @@ fn bad_parameters_are_errors_naming_the_attribute() {
     let out = both(&mut g, "d.outputGeometry");
     assert_eq!(out.positions, grid(2, 2, (0.0, 1.0), (0.0, 1.0)).positions);
 }
+
+#[test]
+fn maya_short_names_resolve() {
+    let mut g = nonlinear("deformBend", grid(3, 11, (-0.01, 0.01), (0.0, 1.0)));
+    set(&mut g, "h.cur", 90.0);
+    set(&mut g, "h.lb", 0.0);
+    assert_eq!(g.get_path("h.curvature").unwrap().as_f64(), Some(90.0));
+    let out = both(&mut g, "d.outputGeometry");
+    let r = 2.0 / PI;
+    assert!((out.positions[31] - Vec3::new(r, r, 0.0)).length() < 1e-6);
+    for (shape, short, long) in [("deformWave", "mxr", "maxRadius"), ("deformFlare", "crv", "curve")] {
+        let mut g = nonlinear(shape, grid(2, 2, (0.0, 1.0), (0.0, 1.0)));
+        set(&mut g, &format!("h.{short}"), 0.25);
+        assert_eq!(g.get_path(&format!("h.{long}")).unwrap().as_f64(), Some(0.25));
+    }
+}

@@ -3,7 +3,7 @@
 //! [`Importer`] holds the scene, the resolved names and the rig under construction. It
 //! runs in phases: DAG transforms first (so everything else can name them), then the
 //! geometry chains (meshes and their deformers, collapsed), then every other node through
-//! the type table [`types::handler_for`], then the connections that no mapper consumed.
+//! the type table `types::handler_for`, then the connections that no mapper consumed.
 //! Each mapper marks the Maya nodes it turned into sinew nodes (or folded into others) and
 //! the connections it consumed; what is left is reported.
 
