@@ -25,15 +25,22 @@
 //! (plugin caches) are stored empty: they are outputs that the first
 //! evaluation of an instance (always a full one) recomputes.
 //!
-//! Decoding never panics: every length is checked against the bytes left
-//! before allocating, every index is range-checked and every slot's value is
-//! type-checked against the attributes bound to it, so corrupt or foreign bytes
-//! give an [`Error::Program`](crate::Error::Program) naming the problem.
+//! Decoding never panics and validates every invariant evaluation relies on: every
+//! length is checked against the bytes left before allocating, every index (slot,
+//! assembly, node, group, step) is range-checked, every slot's value is type-checked
+//! against the attributes bound to it, outputs are bound to whole slots, each
+//! attribute's elements are in increasing index order within
+//! [`MAX_ELEMENT_INDEX`](crate::MAX_ELEMENT_INDEX), input values are finite, each node
+//! group has at most one step, meshes, weights and curves are valid. Corrupt or foreign
+//! bytes give an [`Error::Program`](crate::Error::Program) naming the problem. The
+//! `fuzz/` target `load_program_bytes` checks this with mutated programs whose checksum
+//! is recomputed.
 
 use std::collections::HashMap;
 use std::sync::Arc;
 
 use crate::error::Result;
+use crate::graph::MAX_ELEMENT_INDEX;
 use crate::inactive::Guard;
 use crate::program::{
     frame_schedule, Assembly, AttrBinding, Binding, CompiledTables, ElemBinding, GuardedSchedule, NodeEntry, Program,
@@ -446,7 +453,25 @@ fn decode_payload(payload: &[u8], registry: &Registry) -> Result<Program> {
                 return Err(err(format!("`{}.{}` has no compute group", node.name, aspec.name)));
             }
             ab.group = group;
-            for e in &tables.elems[ab.first as usize..end as usize] {
+            let elems = &tables.elems[ab.first as usize..end as usize];
+            // Nodes rely on elements in increasing index order (the last has the largest
+            // index) and on indices within the limit (they may size arrays by them).
+            if let Some(w) = elems.windows(2).find(|w| w[0].index >= w[1].index) {
+                return Err(err(format!(
+                    "`{}.{}` lists element {} after element {}; elements must be in increasing index order",
+                    node.name, aspec.name, w[1].index, w[0].index
+                )));
+            }
+            if let Some(e) = elems
+                .iter()
+                .find(|e| e.index > MAX_ELEMENT_INDEX || (!aspec.multi && e.index != 0))
+            {
+                return Err(err(format!(
+                    "`{}.{}` has element index {}, out of range",
+                    node.name, aspec.name, e.index
+                )));
+            }
+            for e in elems {
                 let ok = match e.binding {
                     Binding::Slot(s) => slot_ty(s).is_some_and(|t| t == aspec.ty || t.connects_to(aspec.ty)),
                     Binding::Component(s, k) => {
@@ -479,8 +504,16 @@ fn decode_payload(payload: &[u8], registry: &Registry) -> Result<Program> {
     if expected_base != attr_bindings.len() as u64 {
         return Err(err("attribute table does not match the nodes"));
     }
+    // Input values are finite, as the graph keeps them.
+    if let Some(k) = (0..slots).find(|&k| own_input_slot[k] && !initial[k].is_finite()) {
+        return Err(err(format!("input slot {k} holds a non-finite value")));
+    }
     let mut steps = Vec::with_capacity(step_keys.len());
+    let mut seen_steps = std::collections::HashSet::with_capacity(step_keys.len());
     for (node, group) in step_keys {
+        if !seen_steps.insert((node, group)) {
+            return Err(err(format!("node {node} group {group} has two steps")));
+        }
         let Some(entry) = nodes.get(node as usize) else {
             return Err(err(format!("step refers to node {node}, out of range")));
         };

@@ -383,6 +383,9 @@ impl<'a> Reader<'a> {
             }
             S_CURVE => {
                 let degree = self.u32v("curve degree")?;
+                if !(1..=7).contains(&degree) {
+                    return Err(self.fail(&format!("curve degree {degree} is not from 1 to 7")));
+                }
                 let form = match self.u8("curve form")? {
                     0 => CurveForm::Open,
                     1 => CurveForm::Periodic,

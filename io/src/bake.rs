@@ -222,9 +222,9 @@ pub fn bake(graph: &mut Graph, opts: &BakeOptions) -> Result<(Scene, Vec<String>
         scene.nodes.push(Node {
             name: Some(name(graph, n)),
             parent: parent_idx[i],
-            translation: t,
-            rotation: r,
-            scale: s,
+            translation: t.as_dvec3(),
+            rotation: r.as_dquat(),
+            scale: s.as_dvec3(),
             ..Default::default()
         });
         if let Some(p) = parent_idx[i] {
@@ -444,7 +444,7 @@ pub fn bake(graph: &mut Graph, opts: &BakeOptions) -> Result<(Scene, Vec<String>
         let node = &scene.nodes[morph_nodes[k]];
         let mesh = node.mesh.ok_or("morph node without mesh")?;
         let width = d.finish(frames.len(), &mut scene.meshes[mesh].primitives[0], &mut morph[k]);
-        scene.nodes[morph_nodes[k]].weights = morph[k][..width].to_vec();
+        scene.nodes[morph_nodes[k]].weights = morph[k][..width].iter().map(|&x| f64::from(x)).collect();
         widths.push(width);
     }
     let times: Vec<f32> = frames
@@ -469,9 +469,9 @@ pub fn bake(graph: &mut Graph, opts: &BakeOptions) -> Result<(Scene, Vec<String>
             rs.push(q.to_array());
         }
         let rest_node = &scene.nodes[i];
-        let rest_t = [rest_node.translation.to_array()];
-        let rest_s = [rest_node.scale.to_array()];
-        let rest_r = rest_node.rotation;
+        let rest_t = [rest_node.translation.as_vec3().to_array()];
+        let rest_s = [rest_node.scale.as_vec3().to_array()];
+        let rest_r = rest_node.rotation.as_quat();
         push_channel(
             &mut anim,
             i,

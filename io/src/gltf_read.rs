@@ -6,11 +6,13 @@
 //! panic or look away. Bytes are decoded by the sibling `gltf_binary` module with
 //! explicit bounds checks; this module then checks semantics: accessor types per use,
 //! NaN/infinity, vertex and joint index ranges, one parent per node, animation key
-//! order and counts. Corrupt files give a [`GltfError`], never a panic.
+//! order and counts. Corrupt files give a [`GltfError`], never a panic. Node transforms
+//! and weights are read from the JSON again as `f64` (the `gltf` crate parses `f32`), so a
+//! rig imported from the file keeps the numbers the file holds.
 
 use std::path::Path;
 
-use glam::{Mat4, Quat, Vec2, Vec3};
+use glam::{DMat4, DQuat, DVec3, Mat4, Vec2, Vec3};
 use gltf::accessor::Dimensions;
 use gltf::animation::{Interpolation as GInterp, Property};
 use gltf::mesh::{Mode, Semantic};
@@ -55,8 +57,15 @@ pub fn read_gltf_slice(bytes: &[u8], base_dir: Option<&Path>) -> Result<Scene, G
         ),
         other => GltfError::Validation(other.to_string()),
     })?;
+    let exact: ExactJson = serde_json::from_slice(json).map_err(|e| GltfError::Json(e.to_string()))?;
     let buffers = Buffers(load_buffers(&doc, bin, base_dir)?);
-    Reader { doc: &doc, buffers }.scene()
+    Reader {
+        doc: &doc,
+        buffers,
+        node_values: exact.nodes,
+        mesh_weights: exact.meshes,
+    }
+    .scene()
 }
 
 /// Checks what gltf-json 1.4's validation would otherwise panic on or skip: its
@@ -116,6 +125,36 @@ fn precheck(root: &gltf::json::Root) -> Result<(), GltfError> {
 struct Reader<'a> {
     doc: &'a gltf::Document,
     buffers: Buffers,
+    /// Each node's transform and weights as the JSON's `f64` numbers.
+    node_values: Vec<NodeValues>,
+    /// Each mesh's default morph weights, likewise.
+    mesh_weights: Vec<MeshValues>,
+}
+
+/// A glTF mesh's default weights, read from the JSON as `f64`.
+#[derive(Clone, Debug, Default, serde::Deserialize)]
+struct MeshValues {
+    weights: Option<Vec<f64>>,
+}
+
+/// The numbers of a glTF node, read from the JSON as `f64` (the `gltf` crate reads them as
+/// `f32`). The crate has checked their shapes already.
+#[derive(Clone, Debug, Default, serde::Deserialize)]
+struct NodeValues {
+    translation: Option<[f64; 3]>,
+    rotation: Option<[f64; 4]>,
+    scale: Option<[f64; 3]>,
+    matrix: Option<[f64; 16]>,
+    weights: Option<Vec<f64>>,
+}
+
+/// The part of the glTF JSON read as `f64`: its nodes' numbers (everything else skipped).
+#[derive(Debug, Default, serde::Deserialize)]
+struct ExactJson {
+    #[serde(default)]
+    nodes: Vec<NodeValues>,
+    #[serde(default)]
+    meshes: Vec<MeshValues>,
 }
 
 impl Reader<'_> {
@@ -186,35 +225,34 @@ impl Reader<'_> {
     fn nodes(&self) -> Result<Vec<Node>, GltfError> {
         let mut nodes = Vec::new();
         for n in self.doc.nodes() {
+            // The values as the JSON writes them (f64), not as the gltf crate parses them (f32).
+            let exact = self.node_values.get(n.index()).cloned().unwrap_or_default();
             let mut node = Node {
                 name: n.name().map(str::to_owned),
                 children: n.children().map(|c| c.index()).collect(),
                 mesh: n.mesh().map(|m| m.index()),
                 skin: n.skin().map(|s| s.index()),
-                weights: n.weights().map(<[f32]>::to_vec).unwrap_or_default(),
+                weights: exact.weights.unwrap_or_default(),
                 ..Node::default()
             };
-            match n.transform() {
-                gltf::scene::Transform::Matrix { matrix } => {
-                    let m = Mat4::from_cols_array_2d(&matrix);
+            match exact.matrix {
+                Some(matrix) => {
+                    let m = DMat4::from_cols_array(&matrix);
                     let (s, r, t) = m.to_scale_rotation_translation();
                     node.matrix = Some(m);
                     (node.translation, node.rotation, node.scale) = (t, r, s);
                 }
-                gltf::scene::Transform::Decomposed {
-                    translation,
-                    rotation,
-                    scale,
-                } => {
-                    node.translation = Vec3::from(translation);
-                    node.rotation = Quat::from_array(rotation);
-                    node.scale = Vec3::from(scale);
+                None => {
+                    node.translation = exact.translation.map_or(DVec3::ZERO, DVec3::from_array);
+                    node.rotation = exact.rotation.map_or(DQuat::IDENTITY, DQuat::from_array);
+                    node.scale = exact.scale.map_or(DVec3::ONE, DVec3::from_array);
                 }
             }
             let finite = node.translation.is_finite()
                 && node.rotation.is_finite()
                 && node.scale.is_finite()
-                && node.matrix.is_none_or(|m| m.is_finite());
+                && node.matrix.is_none_or(|m| m.is_finite())
+                && node.weights.iter().all(|w| w.is_finite());
             if !finite {
                 return Err(GltfError::Invalid(format!("node {}: non-finite transform", n.index())));
             }
@@ -239,7 +277,11 @@ impl Reader<'_> {
     fn mesh(&self, mesh: &gltf::Mesh, warnings: &mut Vec<String>) -> Result<SceneMesh, GltfError> {
         let mut out = SceneMesh {
             name: mesh.name().map(str::to_owned),
-            weights: mesh.weights().map(<[f32]>::to_vec).unwrap_or_default(),
+            weights: self
+                .mesh_weights
+                .get(mesh.index())
+                .and_then(|m| m.weights.clone())
+                .unwrap_or_default(),
             target_names: target_names(mesh.extras()),
             primitives: Vec::new(),
         };

@@ -155,14 +155,14 @@ fn build(scene: &Scene, embed: bool) -> Result<(Value, Vec<u8>), GltfError> {
             if !n.children.is_empty() {
                 v["children"] = json!(n.children);
             }
-            if n.translation != glam::Vec3::ZERO {
+            if n.translation != glam::DVec3::ZERO {
                 v["translation"] = json!(n.translation.to_array());
             }
             let r = n.rotation.normalize();
-            if r != glam::Quat::IDENTITY {
+            if r != glam::DQuat::IDENTITY {
                 v["rotation"] = json!(r.to_array());
             }
-            if n.scale != glam::Vec3::ONE {
+            if n.scale != glam::DVec3::ONE {
                 v["scale"] = json!(n.scale.to_array());
             }
             if let Some(m) = n.mesh {

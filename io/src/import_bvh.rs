@@ -15,9 +15,10 @@
 //!   `fps = 1 / FrameTime`; the rig's `frames` are `(0, Frames - 1)`. Rotations go to a
 //!   `vectorCurve` (Euler degrees, linear between frames) → `rotate`; joints with position
 //!   channels get a `vectorCurve` of the full translation (the offset with each channel's
-//!   axis replaced, as the reader's reference FK does) → `translate`. Key times are stored
-//!   rounded to `f32` (the curves search keys at `f32` time), so every frame lands exactly
-//!   on its key.
+//!   axis replaced, as the reader's reference FK does) → `translate`. Key `f` is at
+//!   `f / fps` seconds in `f64`, the very operation that turns rig frame `f` into seconds
+//!   ([`sinew_core::Time::seconds`]), so every frame lands exactly on its key at the rig's
+//!   rate, however long the take.
 
 use std::sync::Arc;
 
@@ -102,10 +103,10 @@ pub fn import_bvh(bvh: &Bvh, opts: &BvhImportOptions) -> Result<BvhImport, Strin
         .map(|(i, j)| rig.name(&j.name, &format!("joint{i}")))
         .collect();
     let times: Vec<f64> = (0..bvh.frame_count)
-        .map(|f| (f as f64 * bvh.frame_time) as f32 as f64)
+        .map(|f| sinew_core::Time::new(f as f64, fps).seconds())
         .collect();
     if times.windows(2).any(|w| w[0] >= w[1]) {
-        return Err("frame times collapse at f32 precision (too many frames or a tiny Frame Time)".into());
+        return Err("frame times collapse (too many frames or a tiny Frame Time)".into());
     }
     let times = Value::FloatArray(Arc::new(times));
     for (i, j) in bvh.joints.iter().enumerate() {

@@ -67,10 +67,6 @@ pub struct GltfImport {
     pub warnings: Vec<String>,
 }
 
-fn v3(v: glam::Vec3) -> Value {
-    Value::Vec3(v.as_dvec3())
-}
-
 fn arr(v: impl IntoIterator<Item = f32>) -> Value {
     Value::FloatArray(Arc::new(v.into_iter().map(f64::from).collect()))
 }
@@ -144,13 +140,13 @@ pub fn import_scene(scene: &Scene, opts: &GltfImportOptions) -> Result<GltfImpor
         }
         match n.matrix {
             Some(m) if !animated.contains(&i) => {
-                rig.set(k, "offsetParentMatrix", Value::Matrix(m.as_dmat4()));
+                rig.set(k, "offsetParentMatrix", Value::Matrix(m));
             }
             _ => {
-                rig.set(k, "translate", v3(n.translation));
-                let q = n.rotation.as_dquat();
+                rig.set(k, "translate", Value::Vec3(n.translation));
+                let q = n.rotation;
                 rig.set(k, "rotate", Value::Vec3(rad_to_deg(quat_to_euler(q, RotateOrder::Xyz))));
-                rig.set(k, "scale", v3(n.scale));
+                rig.set(k, "scale", Value::Vec3(n.scale));
             }
         }
     }
@@ -190,7 +186,7 @@ pub fn import_scene(scene: &Scene, opts: &GltfImportOptions) -> Result<GltfImpor
                     deltas.push(Value::Vec3Array(Arc::new(dd)));
                 }
                 let w: Vec<Value> = (0..prim.targets.len())
-                    .map(|t| Value::Float(weights.get(t).copied().unwrap_or(0.0) as f64))
+                    .map(|t| Value::Float(weights.get(t).copied().unwrap_or(0.0)))
                     .collect();
                 rig.set_multi(k, "weight", w);
                 rig.set_multi(k, "targetIndices", idx);

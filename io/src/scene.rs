@@ -7,9 +7,11 @@
 //!
 //! Conventions: glam's column-vector convention (`world = parent_world * local`),
 //! local matrices are `T * R * S` as in the glTF spec, quaternions are stored
-//! `(x, y, z, w)` as in glTF. Times are seconds (`f32`, glTF's precision).
+//! `(x, y, z, w)` as in glTF. Times are seconds (`f32`, glTF's precision). Node values
+//! (translation, rotation, scale, matrix, weights) are `f64`: JSON numbers keep the
+//! precision the file gives them.
 
-use glam::{Mat4, Quat, Vec3};
+use glam::{DMat4, DQuat, DVec3, Mat4, Quat, Vec3};
 use thiserror::Error;
 
 use sinew_core::data::{Mesh, Weights};
@@ -88,21 +90,21 @@ pub struct Node {
     pub parent: Option<usize>,
     /// Child nodes in file order.
     pub children: Vec<usize>,
-    /// Local translation.
-    pub translation: Vec3,
+    /// Local translation (`f64`: the JSON's numbers as written).
+    pub translation: DVec3,
     /// Local rotation (unit quaternion).
-    pub rotation: Quat,
+    pub rotation: DQuat,
     /// Local scale.
-    pub scale: Vec3,
+    pub scale: DVec3,
     /// The original matrix when the file gave one; `translation`/`rotation`/`scale`
     /// then hold its decomposition (exact only for matrices without shear).
-    pub matrix: Option<Mat4>,
+    pub matrix: Option<DMat4>,
     /// Mesh instantiated by this node.
     pub mesh: Option<usize>,
     /// Skin used by that mesh.
     pub skin: Option<usize>,
     /// Morph target weights overriding the mesh's defaults (empty when not given).
-    pub weights: Vec<f32>,
+    pub weights: Vec<f64>,
 }
 
 impl Default for Node {
@@ -111,9 +113,9 @@ impl Default for Node {
             name: None,
             parent: None,
             children: Vec::new(),
-            translation: Vec3::ZERO,
-            rotation: Quat::IDENTITY,
-            scale: Vec3::ONE,
+            translation: DVec3::ZERO,
+            rotation: DQuat::IDENTITY,
+            scale: DVec3::ONE,
             matrix: None,
             mesh: None,
             skin: None,
@@ -124,9 +126,9 @@ impl Default for Node {
 
 impl Node {
     /// The local matrix: the original matrix when there was one, else `T * R * S`.
-    pub fn local_matrix(&self) -> Mat4 {
+    pub fn local_matrix(&self) -> DMat4 {
         self.matrix
-            .unwrap_or_else(|| Mat4::from_scale_rotation_translation(self.scale, self.rotation, self.translation))
+            .unwrap_or_else(|| DMat4::from_scale_rotation_translation(self.scale, self.rotation, self.translation))
     }
 }
 
@@ -150,8 +152,9 @@ pub struct SceneMesh {
     pub name: Option<String>,
     /// Primitives (triangle lists; strips and fans are converted on read).
     pub primitives: Vec<Primitive>,
-    /// Default morph target weights (empty when not given; then all zero).
-    pub weights: Vec<f32>,
+    /// Default morph target weights (empty when not given; then all zero), as the JSON's
+    /// `f64` numbers.
+    pub weights: Vec<f64>,
     /// Morph target names from `extras.targetNames` (empty when absent).
     pub target_names: Vec<String>,
 }
@@ -394,7 +397,7 @@ impl Scene {
     ///
     /// A malformed hierarchy (a cycle) gives finite but meaningless matrices, no hang.
     pub fn world_matrices(&self) -> Vec<Mat4> {
-        self.world_matrices_with(|_, node| node.local_matrix())
+        self.world_matrices_with(|_, node| node.local_matrix().as_mat4())
     }
 
     /// World matrices with local matrices supplied by `local(index, node)`, e.g. from

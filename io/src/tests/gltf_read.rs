@@ -85,6 +85,43 @@ fn triangle_doc(indices: &[u16]) -> Vec<u8> {
     )
 }
 
+/// Node transforms and weights are the JSON's numbers as `f64` (the `gltf` crate parses
+/// them as `f32`: 0.1 would become 0.10000000149011612).
+#[test]
+fn node_values_keep_the_json_f64_numbers() {
+    let mut d = DocBuilder::default();
+    let pos = d.positions(&TRI);
+    let t1 = d.positions(&[[0.0, 0.0, 1.0]; 3]);
+    let t2 = d.positions(&[[0.0, 1.0, 0.0]; 3]);
+    let mut doc: Value = serde_json::from_slice(&d.finish(
+        json!({"meshes": [{"primitives": [{"attributes": {"POSITION": pos}, "targets": [{"POSITION": t1}, {"POSITION": t2}]}],
+            "weights": [0.1, 0.2]}]}),
+        None,
+    ))
+    .unwrap();
+    doc["nodes"] = json!("NODES");
+    // The numbers exactly as written (serde_json would print 0.1 the same, but be explicit).
+    let text = serde_json::to_string(&doc).unwrap().replace(
+        r#""NODES""#,
+        r#"[{"translation": [0.1, 1e-9, 123456.789], "rotation": [0.0, 0.0, 0.3826834323650898, 0.9238795325112867],
+             "scale": [1.1, 1, 1], "mesh": 0, "weights": [0.3, 0.7]},
+            {"matrix": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0.1, 0.2, 0.3, 1]}]"#,
+    );
+    let s = read_gltf_slice(text.as_bytes(), None).unwrap();
+    assert_eq!(s.meshes[0].weights, [0.1, 0.2]);
+    let n = &s.nodes[0];
+    assert_eq!(n.translation, glam::DVec3::new(0.1, 1e-9, 123456.789));
+    assert_eq!(
+        n.rotation.to_array(),
+        [0.0, 0.0, 0.3826834323650898, 0.9238795325112867]
+    );
+    assert_eq!(n.scale.x, 1.1);
+    assert_eq!(n.weights, [0.3, 0.7]);
+    let m = s.nodes[1].matrix.unwrap();
+    assert_eq!(m.w_axis.truncate(), glam::DVec3::new(0.1, 0.2, 0.3));
+    assert_eq!(s.nodes[1].translation, glam::DVec3::new(0.1, 0.2, 0.3));
+}
+
 fn err_of(bytes: &[u8]) -> String {
     match read_gltf_slice(bytes, None) {
         Ok(_) => panic!("expected an error"),
@@ -316,7 +353,7 @@ fn features_of_hand_built_documents() {
     assert!(root.matrix.is_some());
     assert_eq!(
         (root.translation, root.scale),
-        (Vec3::new(1.0, 2.0, 3.0), Vec3::splat(2.0))
+        (glam::DVec3::new(1.0, 2.0, 3.0), glam::DVec3::splat(2.0))
     );
     assert_eq!(s.nodes[3].parent, Some(2));
     assert_eq!(s.roots, [0, 1]);

@@ -24,7 +24,7 @@ pub(super) fn six_influence_scene() -> Scene {
             name: Some(format!("joint{j}")),
             parent: (j > 0).then_some(j),
             children: if j < 5 { vec![j + 2] } else { vec![] },
-            translation: Vec3::new(0.0, if j == 0 { 0.0 } else { 1.0 }, 0.0),
+            translation: glam::DVec3::new(0.0, if j == 0 { 0.0 } else { 1.0 }, 0.0),
             ..Node::default()
         });
     }

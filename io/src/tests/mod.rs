@@ -8,6 +8,7 @@ mod bake_morphs;
 mod bvh;
 mod gltf_read;
 mod gltf_write;
+mod precision;
 pub(crate) mod validator;
 
 /// The shared third-party assets folder, or `None` (after printing why) when absent.

@@ -17,9 +17,12 @@
 //!   `outputValue[i]` (component `i`, e.g. a morph target weight).
 //!
 //! # Sampling (glTF 2.0 Appendix C, identical to `sinew::io::scene::AnimationChannel::sample`)
-//! The time is the graph time in seconds rounded to `f32` (glTF's precision) for the key
-//! search, so a frame that lands on a key (as `f32`) returns that key exactly. Before the
-//! first key and after the last the value is clamped. STEP holds the earlier key; LINEAR
+//! The time is the graph time in seconds, in `f64` from the frame number down to the key
+//! search and the interpolation (keys keep the precision the file gave them: glTF key
+//! times are `f32` values, held exactly), so the sample at 39/72 s is the spec's
+//! interpolation at 39/72 s, and time steps stay exact however long the take (at 600 s an
+//! `f32` time moves in steps of 61 µs). A time equal to a key returns that key exactly.
+//! Before the first key and after the last the value is clamped. STEP holds the earlier key; LINEAR
 //! lerps (rotations: spec slerp along the shorter arc, `a = acos|d|`, plain lerp when
 //! `sin a < 1e-9`); CUBICSPLINE evaluates the Hermite form with tangents scaled by the key
 //! interval. Rotations are normalized. Interpolation runs in `f64`; unlike the reference
@@ -136,7 +139,7 @@ pub fn sample_keys(
     };
     let off = if interp == Interp::CubicSpline { width } else { 0 };
     let elem = |k: usize, o: usize| -> &[f64] { values.get(k * stride + o..k * stride + o + width).unwrap_or(&[]) };
-    let tf = t as f32 as f64;
+    let tf = t;
     let after = times.partition_point(|&x| x <= tf);
     if after == 0 || after >= n || times[after - 1] == tf {
         let k = after.clamp(1, n) - 1;

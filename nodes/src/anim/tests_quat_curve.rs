@@ -146,3 +146,25 @@ fn bad_keys_are_errors_not_panics() {
     g.set_path("q.keyValue", arr(&[0.0, 0.0, 0.0, 0.0])).unwrap();
     assert!(quat(&g.get_path("q.outputQuat").unwrap()).abs_diff_eq(DQuat::IDENTITY, 0.0));
 }
+
+/// Time is `f64` down to the key search: at 72 fps around 600 s (frame 43,200) consecutive
+/// frames of a curve whose value is its time step by 1/72 s within 1e-12 s (an `f32` time
+/// moves in steps of 2^-14 s ≈ 61 µs there, so frames would be off by up to 31 µs).
+#[test]
+fn the_time_step_at_600_seconds_is_exact() {
+    let mut g = graph();
+    g.add_node("vectorCurve", "c").unwrap();
+    g.set_path("c.width", Value::Int(1)).unwrap();
+    g.set_path("c.keyTime", arr(&[0.0, 1000.0])).unwrap();
+    g.set_path("c.keyValue", arr(&[0.0, 1000.0])).unwrap();
+    let sample = |g: &mut Graph, frame: f64| {
+        g.set_time(Time::new(frame, 72.0));
+        g.get_path("c.output").unwrap().component(0).unwrap()
+    };
+    for frame in [43_200.0, 43_201.0, 43_237.0] {
+        let v = sample(&mut g, frame);
+        assert!((v - frame / 72.0).abs() < 1e-12, "frame {frame}: {v}");
+    }
+    let step = sample(&mut g, 43_201.0) - sample(&mut g, 43_200.0);
+    assert!((step - 1.0 / 72.0).abs() < 1e-12, "{step}");
+}

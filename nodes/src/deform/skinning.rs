@@ -309,36 +309,54 @@ impl<'a> Kernel<'a> {
         }
     }
 
-    /// DQS for one vertex; `None` when the vertex has no usable influence. Rows of four
-    /// influences (the usual shape) take the same arithmetic over fixed-size arrays, which
-    /// the compiler unrolls without bounds checks.
+    /// DQS for one vertex; `None` when the vertex has no usable influence.
+    ///
+    /// A vertex's influences are a set: the result does not depend on the order a row lists
+    /// them in, to the bit. The usable influences (joint in the palette, finite weight) are
+    /// summed in increasing joint index order (ties by weight bits), and the quaternion
+    /// hemisphere is that of the largest weight (ties: the smallest joint index), as the
+    /// influence that dominates the vertex should.
     #[inline(always)]
     fn dqs_vertex<const N: bool>(&self, js: &[u32], ws: &[f32], p: Vec3A, n: Vec3A) -> Option<(Vec3A, Vec3A)> {
-        match (<&[u32; 4]>::try_from(js), <&[f32; 4]>::try_from(ws)) {
-            (Ok(j4), Ok(w4)) => self.dqs_row::<N, _, _>(j4, w4, p, n),
-            _ => self.dqs_row::<N, _, _>(js, ws, p, n),
+        let usable = js
+            .iter()
+            .zip(ws)
+            .filter(|&(&j, &w)| (j as usize) < self.dq.len() && w.is_finite())
+            .map(|(&j, &w)| (j, w));
+        // Rows up to eight influences (all usual ones) stay on the stack.
+        let mut buf = [(0u32, 0.0f32); 8];
+        let mut heap = Vec::new();
+        let row: &mut [(u32, f32)] = if js.len() <= buf.len() {
+            let mut k = 0;
+            for e in usable {
+                buf[k] = e;
+                k += 1;
+            }
+            &mut buf[..k]
+        } else {
+            heap.extend(usable);
+            &mut heap
+        };
+        let key = |e: &(u32, f32)| (e.0, e.1.to_bits());
+        if !row.windows(2).all(|w| key(&w[0]) <= key(&w[1])) {
+            row.sort_unstable_by_key(key);
         }
+        self.dqs_row::<N>(row, p, n)
     }
 
-    /// [`Kernel::dqs_vertex`] over the influences `js`/`ws` (a slice or an array).
+    /// [`Kernel::dqs_vertex`] over usable influences in canonical order.
     #[inline(always)]
-    fn dqs_row<'r, const N: bool, J, W>(&self, js: J, ws: W, p: Vec3A, n: Vec3A) -> Option<(Vec3A, Vec3A)>
-    where
-        J: IntoIterator<Item = &'r u32>,
-        W: IntoIterator<Item = &'r f32>,
-    {
+    fn dqs_row<const N: bool>(&self, row: &[(u32, f32)], p: Vec3A, n: Vec3A) -> Option<(Vec3A, Vec3A)> {
+        // The first largest weight in joint order: the largest, ties by smallest joint.
+        let &(pj, _) = row.iter().reduce(|best, e| if e.1 > best.1 { e } else { best })?;
+        let pv = self.dq.get(pj as usize)?.dq.real;
         let (mut real, mut dual) = (Vec4::ZERO, Vec4::ZERO);
         let mut stretch = Mat3A::ZERO;
-        let mut pivot: Option<Vec4> = None;
         let mut sum = 0.0f32;
-        for (&j, &w) in js.into_iter().zip(ws) {
+        for &(j, w) in row {
             let Some(joint) = self.dq.get(j as usize) else {
                 continue;
             };
-            if !w.is_finite() {
-                continue;
-            }
-            let pv = *pivot.get_or_insert(joint.dq.real);
             let sw = if pv.dot(joint.dq.real) < 0.0 { -w } else { w };
             real += joint.dq.real * sw;
             dual += joint.dq.dual * sw;
@@ -415,6 +433,62 @@ mod tests {
             k.run_generic(0, &mut p2, &mut n2);
             assert!(bits(&p1) == bits(&p2), "{method:?}");
             assert!(bits(&n1) == bits(&n2), "{method:?}");
+        }
+    }
+}
+
+#[cfg(test)]
+mod order_tests {
+    use super::*;
+
+    /// A vertex's influences are a set: listing them in another order (reversed, rotated)
+    /// gives the same bits with dual quaternion and weight-blended skinning, in the build the
+    /// CPU picks (AVX2 where present) and in the portable one.
+    #[test]
+    fn dqs_does_not_depend_on_the_order_influences_are_listed_in() {
+        let (mesh, w, palette) = super::super::tests::random_rig(2000, 24, 5);
+        type Row = Vec<(u32, f32)>;
+        let permuted = |f: &dyn Fn(&mut Row)| {
+            sinew_core::Weights::from_lists((0..w.vertex_count()).map(|v| {
+                let (j, x) = w.influences(v);
+                let mut row: Vec<(u32, f32)> = j.iter().copied().zip(x.iter().copied()).collect();
+                f(&mut row);
+                row
+            }))
+        };
+        let reversed = permuted(&|r| r.reverse());
+        let rotated = permuted(&|r| {
+            let k = r.len() / 2;
+            r.rotate_left(k)
+        });
+        let blend: Vec<f32> = (0..2000).map(|i| (i % 5) as f32 / 4.0).collect();
+        let bits = |v: &[Vec3]| -> Vec<u32> { v.iter().flat_map(|x| x.to_array().map(f32::to_bits)).collect() };
+        for method in [SkinMethod::DualQuaternion, SkinMethod::WeightBlended(&blend)] {
+            let mut results = Vec::new();
+            for weights in [&w, &reversed, &rotated] {
+                let input = SkinInput {
+                    positions: &mesh.positions,
+                    normals: &mesh.normals,
+                    weights: weights.into(),
+                    palette: &palette,
+                };
+                let mut scratch = DqPalette::new();
+                let (mut p1, mut n1) = (vec![Vec3::ZERO; 2000], vec![Vec3::ZERO; 2000]);
+                let (mut p2, mut n2) = (p1.clone(), n1.clone());
+                let out = SkinOutput {
+                    positions: &mut p1,
+                    normals: &mut n1,
+                };
+                let k = Kernel::prepare(&input, method, &mut scratch, &out).unwrap();
+                k.run(0, &mut p1, &mut n1);
+                k.run_generic(0, &mut p2, &mut n2);
+                assert!(bits(&p1) == bits(&p2) && bits(&n1) == bits(&n2), "{method:?}");
+                results.push((bits(&p1), bits(&n1)));
+            }
+            if matches!(method, SkinMethod::DualQuaternion) {
+                assert!(results[1] == results[0], "reversed rows: {method:?}");
+                assert!(results[2] == results[0], "rotated rows: {method:?}");
+            }
         }
     }
 }
