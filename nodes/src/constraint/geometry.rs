@@ -165,8 +165,12 @@ impl AimAtGeometry {
             ("constraintRotatePivot", "crp"),
             ("constraintRotateTranslate", "crt"),
             ("constraintTranslate", "ct"),
+            ("constraintRotateAxis", "cra"),
+            ("aimVector", "a"),
+            ("upVector", "u"),
             ("worldUpType", "wut"),
             ("worldUpVector", "wu"),
+            ("worldUpMatrix", "wum"),
             ("restRotate", "rsrr"),
             ("constraintRotate", "cr"),
         ]);

@@ -122,6 +122,10 @@ fn tangent_constraint_follows_the_tangent() {
     let q = DVec3::new(0.5, 0.25, 0.0) - DVec3::new(-1.0, 1.0, 0.0) / 2f64.sqrt() * 0.5;
     set(&mut g, "tc.constraintTranslate", q);
     set(&mut g, "tc.worldUpVector", DVec3::Z);
+    // Maya's short names of the aim family: a (aimVector), u (upVector), wum.
+    set(&mut g, "tc.a", DVec3::X);
+    set(&mut g, "tc.u", DVec3::Y);
+    set(&mut g, "tc.wum", DMat4::IDENTITY);
     let r = rotation(&mut g, "tc.cr");
     assert!(close(r.x_axis, DVec3::new(1.0, 1.0, 0.0) / 2f64.sqrt(), 1e-9), "{r}");
     assert!(close(r.y_axis, DVec3::Z, 1e-9));

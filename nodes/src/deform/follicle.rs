@@ -124,6 +124,7 @@ impl Follicle {
         let mut s = NodeSpec::builder("follicle");
         // Maya's short names (see docs/rig-format.md, "Maya short names").
         s.maya_names(&[
+            ("inputMesh", "inm"),
             ("inputWorldMatrix", "iwm"),
             ("inputSurface", "is"),
             ("parameterU", "pu"),

@@ -88,9 +88,10 @@ fn distance_between_points_and_matrices() {
     assert_eq!(float(&both(&mut g, &["d.distance"])[0]), 5.0);
     // inMatrix1 = rotate 90° about Z: point1 (1, 0, 0) → (0, 1, 0).
     // inMatrix2 = translate (3, 5, 0): point2 origin → (3, 5, 0). Distance |(3, 4, 0)| = 5.
-    set(&mut g, "d.point1", v3(1.0, 0.0, 0.0));
+    // (Maya's short names p1, im1: node reference.)
+    set(&mut g, "d.p1", v3(1.0, 0.0, 0.0));
     set(&mut g, "d.point2", v3(0.0, 0.0, 0.0));
-    set(&mut g, "d.inMatrix1", Value::Matrix(DMat4::from_rotation_z(FRAC_PI_2)));
+    set(&mut g, "d.im1", Value::Matrix(DMat4::from_rotation_z(FRAC_PI_2)));
     set(
         &mut g,
         "d.inMatrix2",

@@ -24,7 +24,13 @@ impl DistanceBetween {
     pub fn new() -> Result<Self, SpecError> {
         let mut s = NodeSpec::builder("distanceBetween");
         // Maya's short names (see docs/rig-format.md, "Maya short names").
-        s.maya_names(&[("point2", "p2"), ("distance", "d")]);
+        s.maya_names(&[
+            ("point1", "p1"),
+            ("point2", "p2"),
+            ("inMatrix1", "im1"),
+            ("inMatrix2", "im2"),
+            ("distance", "d"),
+        ]);
         s.doc("distance = |inMatrix2 * point2 - inMatrix1 * point1|");
         let point1 = s.input("point1", DVec3::ZERO);
         let point2 = s.input("point2", DVec3::ZERO);

@@ -27,13 +27,24 @@ impl CurveInfo {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut b = NodeSpec::builder("curveInfo");
-        b.maya_names(&[("inputCurve", "ic"), ("arcLength", "al")]);
+        b.maya_names(&[
+            ("inputCurve", "ic"),
+            ("arcLength", "al"),
+            ("controlPoints", "cp"),
+            ("knots", "kn"),
+            ("weights", "wt"),
+            ("xValue", "xv"),
+            ("yValue", "yv"),
+            ("zValue", "zv"),
+        ]);
         b.doc("arc length, control points, knots and weights of a curve");
         let input = CurveIn::declare(&mut b, "inputCurve", "the curve (connect worldSpace[0] or local)", true);
         let arc_length = b.output("arcLength", 0.0);
         let control_points = b.multi_output("controlPoints", DVec3::ZERO);
         let knots = b.multi_output("knots", 0.0);
         let weights = b.multi_output("weights", 1.0);
+        // Maya's children of controlPoints[i]: xValue (xv), yValue (yv), zValue (zv).
+        b.child_names(control_points, ["xValue", "yValue", "zValue"]);
         b.unit(arc_length, Unit::Distance)
             .attr_doc(arc_length, "length of the curve")
             .attr_doc(control_points, "control point i")
@@ -114,7 +125,17 @@ impl PointOnCurveInfo {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut b = NodeSpec::builder("pointOnCurveInfo");
-        b.maya_names(&[("inputCurve", "ic"), ("parameter", "pr"), ("turnOnPercentage", "top")]);
+        b.maya_names(&[
+            ("inputCurve", "ic"),
+            ("parameter", "pr"),
+            ("turnOnPercentage", "top"),
+            ("position", "p"),
+            ("normalizedNormal", "nn"),
+            ("tangent", "t"),
+            ("normalizedTangent", "nt"),
+            ("curvatureCenter", "cc"),
+            ("curvatureRadius", "cr"),
+        ]);
         b.doc("position, tangent, normal and curvature of a curve at a parameter");
         let input = CurveIn::declare(
             &mut b,

@@ -41,7 +41,13 @@ impl PointOnSurfaceInfo {
             ("parameterU", "u"),
             ("parameterV", "v"),
             ("turnOnPercentage", "top"),
+            ("position", "p"),
             ("normal", "n"),
+            ("normalizedNormal", "nn"),
+            ("tangentU", "tu"),
+            ("normalizedTangentU", "ntu"),
+            ("tangentV", "tv"),
+            ("normalizedTangentV", "ntv"),
         ]);
         b.doc("position, tangents and normal of a surface at (u, v)");
         let input = SurfaceIn::declare(&mut b, "inputSurface", "the surface (connect worldSpace[0] or local)");
@@ -55,6 +61,9 @@ impl PointOnSurfaceInfo {
         let normalized_tangent_u = b.output("normalizedTangentU", DVec3::ZERO);
         let tangent_v = b.output("tangentV", DVec3::ZERO);
         let normalized_tangent_v = b.output("normalizedTangentV", DVec3::ZERO);
+        // Maya's node reference names these children in lower case: tangentUx, tangentVz...
+        b.child_names(tangent_u, ["tangentUx", "tangentUy", "tangentUz"]);
+        b.child_names(tangent_v, ["tangentVx", "tangentVy", "tangentVz"]);
         b.unit(position, Unit::Distance)
             .attr_doc(u, "u parameter (or fraction of the u domain with turnOnPercentage)")
             .attr_doc(v, "v parameter (or fraction of the v domain with turnOnPercentage)")

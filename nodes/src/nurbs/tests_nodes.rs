@@ -207,6 +207,11 @@ fn curve_info() {
     let knots: Vec<f64> = (0..4).map(|i| getf(&mut g, &format!("ci.knots[{i}]"))).collect();
     assert_eq!(knots, [0.0, 0.0, 1.0, 1.0]);
     assert_eq!(getf(&mut g, "ci.weights[1]"), 1.0);
+    // Maya's short names (node reference: cp with children xv yv zv, kn, wt).
+    assert_eq!(getf(&mut g, "ci.cp[2].yv"), 1.0);
+    assert_eq!(getf(&mut g, "ci.controlPoints[2].xValue"), 1.0);
+    assert_eq!(getf(&mut g, "ci.kn[2]"), 1.0);
+    assert_eq!(getf(&mut g, "ci.wt[0]"), 1.0);
     assert_lazy_eq_compiled(
         &mut g,
         &["ci.arcLength", "ci.controlPoints[1]", "ci.knots[2]", "ci.weights[0]"],
@@ -223,6 +228,8 @@ fn point_on_curve_info() {
     set(&mut g, "pc.ic", curve(3, &BEZIER));
     set(&mut g, "pc.pr", 0.5);
     assert!(close(get3(&mut g, "pc.position"), DVec3::new(2.0, 1.5, 0.0), 1e-15));
+    assert_eq!(get3(&mut g, "pc.p"), get3(&mut g, "pc.position"), "Maya's short name");
+    assert_eq!(get3(&mut g, "pc.nt"), get3(&mut g, "pc.normalizedTangent"));
     assert!(close(get3(&mut g, "pc.tangent"), DVec3::new(4.5, 0.0, 0.0), 1e-14));
     assert!(close(get3(&mut g, "pc.normalizedTangent"), DVec3::X, 1e-15));
     assert!(close(get3(&mut g, "pc.normal"), DVec3::new(0.0, -12.0, 0.0), 1e-13));
@@ -318,8 +325,8 @@ fn motion_path_position_and_follow() {
         1e-15
     ));
     set(&mut g, "mp.if", false);
-    // frontTwist 90° about the front axis (x): up goes to +Z.
-    set(&mut g, "mp.frontTwist", 90.0);
+    // frontTwist (Maya's short name ft) 90° about the front axis (x): up goes to +Z.
+    set(&mut g, "mp.ft", 90.0);
     let m = getm(&mut g, "mp.orientMatrix");
     assert!(close(m.y_axis.truncate(), DVec3::Z, 1e-15), "{m}");
     set(&mut g, "mp.frontTwist", 0.0);
@@ -428,6 +435,12 @@ fn point_on_surface_info() {
     assert!(close(get3(&mut g, "ps.tangentU"), DVec3::new(1.0, 0.5, 0.0), 1e-15));
     assert!(close(get3(&mut g, "ps.tangentV"), DVec3::new(0.0, 0.5, 1.0), 1e-15));
     assert!(close(get3(&mut g, "ps.n"), DVec3::new(0.5, -1.0, 0.5), 1e-15));
+    // Maya's names: tangentU's children are tangentUx.. (lower case); short names as the
+    // pointOnSurface command's flags (tu, ntu, p).
+    assert_eq!(getf(&mut g, "ps.tangentUy"), 0.5);
+    assert_eq!(get3(&mut g, "ps.tu"), get3(&mut g, "ps.tangentU"));
+    assert_eq!(get3(&mut g, "ps.ntu"), get3(&mut g, "ps.normalizedTangentU"));
+    assert_eq!(get3(&mut g, "ps.p"), get3(&mut g, "ps.position"));
     assert!(close(
         get3(&mut g, "ps.normalizedNormal"),
         DVec3::new(0.5, -1.0, 0.5).normalize(),
