@@ -2,8 +2,9 @@
 //! mesh in the same run (a 320 × 313 grid with a wavy height, triangulated).
 //!
 //! Each deformer case runs what `outputGeometry`'s compute runs per frame once its
-//! parameters are read: the copy of the input positions into the output buffer and the
-//! deformer's kernel over every vertex (weight 1, envelope 1, serial). The LBS case is
+//! parameters are read: the copy of the input positions into the output buffer (skipped, as
+//! the node skips it, when the kernel overwrites every vertex) and the deformer's kernel over
+//! every vertex (weight 1, envelope 1, serial). The LBS case is
 //! `skin` with prepared weights (4 influences per vertex from 64 joints, as in the skinning
 //! bench), serial, positions only; `copy` copies the positions (the memory floor).
 //!
@@ -100,7 +101,10 @@ impl<D: Deformer> Run for Case<D> {
         self.name
     }
     fn run(&self, input: &Mesh, out: &mut [Vec3]) {
-        out.copy_from_slice(&input.positions);
+        // As the node: the copy only when the kernel does not overwrite every vertex.
+        if !self.node.deformer().writes_every_vertex(&self.frame) {
+            out.copy_from_slice(&input.positions);
+        }
         let job = Job {
             input,
             out,
@@ -219,6 +223,7 @@ fn cases(m: &Mesh) -> Vec<Box<dyn Run>> {
                 wavelength: 0.5,
                 offset: 0.0,
                 dropoff: 0.3,
+                dropoff_position: 0.0,
             },
         ),
         ffd("ffd_2x5x2", None),
@@ -231,6 +236,7 @@ fn cases(m: &Mesh) -> Vec<Box<dyn Run>> {
                 displacement: 1.0,
                 inward: 0.0,
                 outward: 0.0,
+                scale: Vec3::ONE,
             },
         ),
         case::<Tension>(

@@ -21,7 +21,9 @@
 //!   `membership` change.
 //!
 //! Per-frame work (compiled): no allocation once warm; the output mesh's buffers are reused
-//! (`ComputeContext::data_mut`) and the topology is copied only when its bits differ.
+//! (`ComputeContext::data_mut`) and the topology is copied only when its bits differ; the
+//! input positions are copied into the output only when the kernel does not overwrite them
+//! all ([`Deformer::writes_every_vertex`]).
 
 use std::sync::Arc;
 
@@ -493,6 +495,14 @@ pub trait Deformer: Send + Sync + Sized + 'static {
     /// Writes the deformed positions of the active vertices into `job.out`.
     fn deform(&self, ty: &str, frame: &Self::Frame, job: Job<'_>) -> Result<(), ComputeError>;
 
+    /// Whether [`Deformer::deform`] writes every vertex of `job.out` when every vertex is
+    /// active (no weight map, no membership): the node then skips copying the input positions
+    /// into the output first (`job.out` holds the previous frame's positions instead). False
+    /// unless the deformer says so.
+    fn writes_every_vertex(&self, _frame: &Self::Frame) -> bool {
+        false
+    }
+
     /// Computes a group of the deformer's own outputs (bind data); returns `false` when the
     /// group being computed is not one of them.
     fn compute_extra(&self, _ty: &str, _ctx: &mut ComputeContext<'_>) -> Result<bool, ComputeError> {
@@ -564,8 +574,11 @@ impl<D: Deformer> DeformerNode<D> {
             return Ok(());
         };
         copy_topology(&mesh, out);
-        out.positions.clear();
-        out.positions.extend_from_slice(&mesh.positions);
+        let overwritten = membership.sparse.is_none() && self.deformer.writes_every_vertex(&frame);
+        if !overwritten || out.positions.len() != n {
+            out.positions.clear();
+            out.positions.extend_from_slice(&mesh.positions);
+        }
         let job = Job {
             input: &mesh,
             out: &mut out.positions,

@@ -288,6 +288,11 @@ impl Deformer for Ffd {
         })
     }
 
+    fn writes_every_vertex(&self, f: &FfdFrame) -> bool {
+        // `deform` leaves the output alone only without a lattice (or fails on a bad one).
+        f.lattice.downcast::<Lattice>().is_some()
+    }
+
     fn deform(&self, ty: &str, f: &FfdFrame, job: Job<'_>) -> Result<(), ComputeError> {
         if f.lattice.is_empty() {
             return Ok(());

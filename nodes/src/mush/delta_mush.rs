@@ -18,13 +18,18 @@
 //! `smoothingStep` (float, 0.5), `pinBorderVertices` (bool, true), `displacement` (float, 1),
 //! `inwardConstraint`, `outwardConstraint` (float, 0: each removes that fraction of the
 //! result's motion into, or out of, the input surface along the input's normals),
+//! `distanceWeight` (float, 0: neighbours weighted by inverse rest distance, see
+//! [`super::smooth`]; bound with the rest mesh), `scale` (vec3 `scaleX/Y/Z`, 1: scales the
+//! restored offsets along the mesh's object axes, `out = S(D) + scale ⊙ displacement ·
+//! F_S(D)·d`; Maya's reference lists `scale` without a formula, this reading is sinew's),
 //! `bindCache` (object output: the bind data, rebuilt when the rest mesh or smoothing
-//! settings change). Not implemented: Maya's `distanceWeight`, `scale`, `smoothingAlgorithm`.
+//! settings change). Not implemented: Maya's `smoothingAlgorithm` (the reference at hand
+//! lists the attribute but not its choices; sinew smooths as described above).
 
 use std::cell::RefCell;
 use std::sync::Arc;
 
-use glam::{Vec3, Vec3A};
+use glam::{DVec3, Vec3, Vec3A};
 use sinew_core::{AttrId, ComputeContext, ComputeError, Input, Mesh, ObjectRef, Output, SpecBuilder};
 
 use super::smooth::Smoother;
@@ -57,7 +62,8 @@ pub struct MushBind {
 #[inline(always)]
 fn unit_or_zero(e: Vec3A) -> Vec3A {
     let r = 1.0 / e.dot(e).sqrt();
-    e * if r.is_finite() { r } else { 0.0 }
+    // `r ≥ 0` or NaN: a float comparison (it vectorizes) that is `r.is_finite()`.
+    e * if r.abs() < f32::INFINITY { r } else { 0.0 }
 }
 
 /// `F · d` for vertex `v` on smoothed positions `s`.
@@ -81,7 +87,8 @@ struct MushMap<'a> {
     bind: &'a MushBind,
     smooth: &'a [Vec3A],
     normals: &'a [Vec3],
-    displacement: f32,
+    /// `displacement · scale`.
+    displacement: Vec3A,
     inward: f32,
     outward: f32,
     constrain: bool,
@@ -109,8 +116,19 @@ impl PointMap for MushMap<'_> {
 impl MushBind {
     /// Binds to the rest mesh.
     pub fn new(rest: &Mesh, iterations: usize, step: f32, pin_border: bool) -> Self {
+        MushBind::with_distance_weight(rest, iterations, step, pin_border, 0.0)
+    }
+
+    /// Binds to the rest mesh with `distanceWeight` (0 = [`MushBind::new`]).
+    pub fn with_distance_weight(
+        rest: &Mesh,
+        iterations: usize,
+        step: f32,
+        pin_border: bool,
+        distance_weight: f32,
+    ) -> Self {
         let n = rest.positions.len();
-        let smoother = Smoother::new(n, &rest.triangles, pin_border);
+        let smoother = Smoother::with_distance_weight(&rest.triangles, pin_border, &rest.positions, distance_weight);
         let (mut s, mut tmp) = (Vec::new(), Vec::new());
         smoother.smooth(&rest.positions, iterations, step, &mut s, &mut tmp);
         let sv: Vec<Vec3> = s.iter().map(|&p| Vec3::from(p)).collect();
@@ -175,6 +193,8 @@ pub struct DeltaMush {
     displacement: Input<f64>,
     inward: Input<f64>,
     outward: Input<f64>,
+    distance_weight: Input<f64>,
+    scale: Input<DVec3>,
     bind: Output<ObjectRef>,
 }
 
@@ -188,6 +208,8 @@ pub struct MushFrame {
     pub inward: f32,
     /// Per-frame parameter `outward`.
     pub outward: f32,
+    /// Per-frame parameter `scale` (1 = Maya's default).
+    pub scale: Vec3,
 }
 
 impl Deformer for DeltaMush {
@@ -201,6 +223,8 @@ impl Deformer for DeltaMush {
         let displacement = s.input("displacement", 1.0);
         let inward = s.input("inwardConstraint", 0.0);
         let outward = s.input("outwardConstraint", 0.0);
+        let distance_weight = s.input("distanceWeight", 0.0);
+        let scale = s.input("scale", DVec3::ONE);
         let bind = s.output("bindCache", ObjectRef::default());
         s.attr_doc(original, "the rest mesh the offsets are measured on")
             .attr_doc(iterations, "smoothing passes")
@@ -209,9 +233,23 @@ impl Deformer for DeltaMush {
             .attr_doc(displacement, "scale of the restored offsets (0 = smoothed mesh)")
             .attr_doc(inward, "removes this fraction of motion into the input surface")
             .attr_doc(outward, "removes this fraction of motion out of the input surface")
+            .attr_doc(
+                distance_weight,
+                "0 = plain mean; 1 = neighbours weighted by inverse rest distance",
+            )
+            .attr_doc(scale, "scales the restored offsets along the object axes")
             .attr_doc(bind, "bind data (MushBind)");
-        s.affects(&[original.id(), iterations.id(), step.id(), pin.id()], &[bind.id()]);
-        let ids = vec![bind.id(), displacement.id(), inward.id(), outward.id()];
+        s.affects(
+            &[
+                original.id(),
+                iterations.id(),
+                step.id(),
+                pin.id(),
+                distance_weight.id(),
+            ],
+            &[bind.id()],
+        );
+        let ids = vec![bind.id(), displacement.id(), inward.id(), outward.id(), scale.id()];
         let me = DeltaMush {
             original,
             iterations,
@@ -220,6 +258,8 @@ impl Deformer for DeltaMush {
             displacement,
             inward,
             outward,
+            distance_weight,
+            scale,
             bind,
         };
         (me, ids)
@@ -239,7 +279,11 @@ impl Deformer for DeltaMush {
             )));
         }
         let step = finite(ty, "smoothingStep", ctx.get(self.step))? as f32;
-        let bind = MushBind::new(&rest, iterations as usize, step, ctx.get(self.pin));
+        let dw = finite(ty, "distanceWeight", ctx.get(self.distance_weight))?;
+        if !(0.0..=1.0).contains(&dw) {
+            return Err(ComputeError::new(format!("{ty}.distanceWeight is {dw}; give 0 to 1")));
+        }
+        let bind = MushBind::with_distance_weight(&rest, iterations as usize, step, ctx.get(self.pin), dw as f32);
         ctx.set(self.bind, ObjectRef::new(bind));
         Ok(true)
     }
@@ -250,7 +294,19 @@ impl Deformer for DeltaMush {
             displacement: finite(ty, "displacement", ctx.get(self.displacement))? as f32,
             inward: finite(ty, "inwardConstraint", ctx.get(self.inward))? as f32,
             outward: finite(ty, "outwardConstraint", ctx.get(self.outward))? as f32,
+            scale: {
+                let v = ctx.get(self.scale);
+                for (c, x) in ["scaleX", "scaleY", "scaleZ"].into_iter().zip(v.to_array()) {
+                    finite(ty, c, x)?;
+                }
+                v.as_vec3()
+            },
         })
+    }
+
+    fn writes_every_vertex(&self, f: &MushFrame) -> bool {
+        // `deform` writes every active vertex or fails.
+        f.bind.downcast::<MushBind>().is_some()
     }
 
     fn deform(&self, ty: &str, f: &MushFrame, job: Job<'_>) -> Result<(), ComputeError> {
@@ -280,7 +336,7 @@ impl Deformer for DeltaMush {
                 bind: b,
                 smooth: &s.smooth,
                 normals: &s.normals,
-                displacement: disp,
+                displacement: Vec3A::from(f.scale) * disp,
                 inward,
                 outward,
                 constrain,

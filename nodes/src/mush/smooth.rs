@@ -3,12 +3,26 @@
 //! each pass reads the previous pass only), border vertices optionally pinned, vertices
 //! without neighbours left in place.
 //!
+//! Distance weighting (delta mush's `distanceWeight` w, bound on the rest mesh): the mean
+//! becomes `Σ ωᵤ pᵤ / Σ ωᵤ` with `ωᵤ = (1 − w) + w · ℓ̄ / ℓᵤ`, `ℓᵤ` the rest length of the edge
+//! to neighbour `u` and `ℓ̄` the mean of the vertex's rest edge lengths: at w = 1 neighbours
+//! count in inverse proportion to their distance (closer ones pull harder), at w = 0 it is the
+//! plain mean (the unweighted code path, bit for bit). Maya describes `distanceWeight` only
+//! as making close vertices influence more than far ones; this weighting is sinew's.
+//!
 //! The passes are fused into one sweep over the vertices (a wavefront: pass `k` runs
 //! `span` vertices behind pass `k − 1`, where `span` is the largest index distance between
 //! neighbours), so that a mesh whose vertex order has locality is smoothed while its
 //! neighbourhood is in cache instead of streaming the whole mesh through memory once per
 //! pass. Every vertex is computed by the same operations as in plain Jacobi passes: the
 //! result is the same, bit for bit.
+//!
+//! Within a pass, vertices go by groups of [`GROUP`]: their neighbour lists are stored slot by
+//! slot (an ELLPACK layout padded with a sentinel vertex that holds `+0`), so the [`GROUP`]
+//! neighbour sums are independent chains the CPU overlaps instead of one chain of dependent
+//! additions per vertex. Each sum still adds the same neighbours in the same order from `+0`,
+//! and the padding adds `+0`, which leaves any such sum unchanged (it can never be `−0`): the
+//! same bits as one vertex at a time.
 
 use glam::{Vec3, Vec3A};
 
@@ -24,10 +38,24 @@ pub struct Smoother {
     pub inv_degree: Vec<f32>,
     /// The largest `|u − v|` over neighbours `u` of `v` (the lag between fused passes).
     pub span: usize,
+    /// Start of each group's slots in `slots` (`n / GROUP + 1` entries, in units of `GROUP`
+    /// indices): group `g` has `group_start[g + 1] − group_start[g]` slots, its largest degree.
+    group_start: Vec<u32>,
+    /// Neighbour indices by group, slot-major (`GROUP` indices per slot, one per vertex of the
+    /// group); `n` (the sentinel) past a vertex's degree.
+    slots: Vec<u32>,
+    /// Distance weighting: normalised neighbour weights `ωᵤ / Σ ω`, one per
+    /// `adj.neighbors` entry; empty for the plain mean.
+    weights: Vec<f32>,
+    /// The same weights laid out as `slots` (0 in padded slots).
+    slot_weights: Vec<f32>,
 }
 
-/// Vertices per pass per step of the fused sweep.
+/// Vertices per pass per step of the fused sweep (a multiple of [`GROUP`]).
 const CHUNK: usize = 512;
+
+/// Vertices whose neighbour sums are computed together.
+pub const GROUP: usize = 8;
 
 impl Smoother {
     /// Prepares smoothing of a mesh with `n` vertices and `triangles`.
@@ -47,7 +75,73 @@ impl Smoother {
             .flat_map(|v| adj.of(v).iter().map(move |&u| (u as usize).abs_diff(v)))
             .max()
             .unwrap_or(0);
-        Smoother { adj, inv_degree, span }
+        let (mut group_start, mut slots) = (vec![0u32], Vec::new());
+        for g in 0..n / GROUP {
+            let vs = g * GROUP..(g + 1) * GROUP;
+            let width = vs.clone().map(|v| adj.of(v).len()).max().unwrap_or(0);
+            for k in 0..width {
+                slots.extend(vs.clone().map(|v| adj.of(v).get(k).copied().unwrap_or(n as u32)));
+            }
+            group_start.push(group_start[g] + width as u32);
+        }
+        Smoother {
+            adj,
+            inv_degree,
+            span,
+            group_start,
+            slots,
+            weights: Vec::new(),
+            slot_weights: Vec::new(),
+        }
+    }
+
+    /// [`Smoother::new`] with distance weighting `distance_weight` (see the module docs)
+    /// measured on `rest` (`n` positions); 0 is the plain mean.
+    pub fn with_distance_weight(triangles: &[[u32; 3]], pin_border: bool, rest: &[Vec3], distance_weight: f32) -> Self {
+        let n = rest.len();
+        let mut s = Smoother::new(n, triangles, pin_border);
+        if distance_weight == 0.0 {
+            return s;
+        }
+        let mut weights = Vec::with_capacity(s.adj.neighbors.len());
+        for v in 0..n {
+            let nb = s.adj.of(v);
+            let len = |u: u32| rest[v].distance(rest[u as usize]);
+            let mean = nb.iter().map(|&u| len(u)).sum::<f32>() / nb.len().max(1) as f32;
+            let start = weights.len();
+            for &u in nb {
+                // A zero-length edge counts as a millionth of the mean edge (finite weight);
+                // all edges zero: the plain mean.
+                let l = len(u).max(mean * 1e-6);
+                let inv = if l > 0.0 { mean / l } else { 1.0 };
+                weights.push((1.0 - distance_weight) + distance_weight * inv);
+            }
+            let total: f32 = weights[start..].iter().sum();
+            for w in &mut weights[start..] {
+                *w = if total > 0.0 && total.is_finite() {
+                    *w / total
+                } else {
+                    1.0 / nb.len() as f32
+                };
+            }
+        }
+        let mut slot_weights = Vec::with_capacity(s.slots.len());
+        for g in 0..n / GROUP {
+            let width = (s.group_start[g + 1] - s.group_start[g]) as usize;
+            for k in 0..width {
+                slot_weights.extend((g * GROUP..(g + 1) * GROUP).map(|v| {
+                    let a = s.adj.offsets[v] as usize;
+                    if k < s.adj.of(v).len() {
+                        weights[a + k]
+                    } else {
+                        0.0
+                    }
+                }));
+            }
+        }
+        s.weights = weights;
+        s.slot_weights = slot_weights;
+        s
     }
 
     /// Smooths `positions` into `out`, using `tmp` as the second buffer (both resized; no
@@ -67,17 +161,22 @@ impl Smoother {
         if n != data.len() || iterations == 0 {
             return;
         }
+        // The sentinel vertex `n` (+0) the padded slots of the groups point at.
+        data.push(Vec3A::ZERO);
+        tmp.push(Vec3A::ZERO);
+        // A lag of at least `span`, a multiple of GROUP so that every range starts on a group.
+        let lag = self.span.next_multiple_of(GROUP);
         // Pass k reads buffer k mod 2 and writes the other; at each step it covers
         // [end − CHUNK − k·span, end − k·span). It reads pass k − 1's values up to `span`
         // ahead, which pass k − 1 has just written (it runs `span` ahead), and overwrites
         // pass k − 2's values behind where pass k − 1 will read again.
-        let total = n + (iterations - 1) * self.span;
+        let total = n + (iterations - 1) * lag;
         let mut end = 0;
         while end < total {
             end += CHUNK;
             for k in 0..iterations {
-                let hi = end.saturating_sub(k * self.span).min(n);
-                let lo = end.saturating_sub(k * self.span + CHUNK).min(n);
+                let hi = end.saturating_sub(k * lag).min(n);
+                let lo = end.saturating_sub(k * lag + CHUNK).min(n);
                 if lo == hi {
                     continue;
                 }
@@ -92,12 +191,87 @@ impl Smoother {
         if iterations % 2 == 1 {
             std::mem::swap(data, tmp);
         }
+        data.truncate(n);
+        tmp.truncate(n);
     }
 
-    /// One Jacobi pass over the vertices `range`: `dst[v]` from `src` (all `n` long).
+    /// One Jacobi pass over the vertices `range`: `dst[v]` from `src` (at least `n` long; with
+    /// the sentinel, `n + 1` long, whole groups go together).
     fn pass(&self, src: &[Vec3A], dst: &mut [Vec3A], range: std::ops::Range<usize>, step: f32) {
         let n = self.inv_degree.len();
-        if n == 0 || self.adj.offsets.len() != n + 1 || range.end > n {
+        if n == 0 || self.adj.offsets.len() != n + 1 || range.end > n || src.len() < n || dst.len() < n {
+            return;
+        }
+        if self.weights.is_empty() {
+            self.pass_by::<false>(src, dst, range, step)
+        } else if self.weights.len() == self.adj.neighbors.len() && self.slot_weights.len() == self.slots.len() {
+            self.pass_by::<true>(src, dst, range, step)
+        }
+    }
+
+    /// [`Smoother::pass`], plain (`W` false) or distance-weighted mean.
+    #[inline(always)]
+    fn pass_by<const W: bool>(&self, src: &[Vec3A], dst: &mut [Vec3A], range: std::ops::Range<usize>, step: f32) {
+        let n = self.inv_degree.len();
+        let (g0, g1) = (range.start.div_ceil(GROUP), range.end / GROUP);
+        if src.len() > n && g0 < g1 && self.group_start.len() == n / GROUP + 1 {
+            self.pass_one_by_one::<W>(src, dst, range.start..g0 * GROUP, step);
+            for g in g0..g1 {
+                self.pass_group::<W>(src, dst, g, step);
+            }
+            self.pass_one_by_one::<W>(src, dst, g1 * GROUP..range.end, step);
+        } else {
+            self.pass_one_by_one::<W>(src, dst, range, step);
+        }
+    }
+
+    /// [`Smoother::pass`] for the vertices of group `g`, their sums side by side (`src` holds
+    /// the sentinel: `n + 1` points).
+    #[inline(always)]
+    fn pass_group<const W: bool>(&self, src: &[Vec3A], dst: &mut [Vec3A], g: usize, step: f32) {
+        let n = self.inv_degree.len();
+        let (a, b) = (
+            self.group_start[g] as usize * GROUP,
+            self.group_start[g + 1] as usize * GROUP,
+        );
+        let src = &src[..n + 1];
+        let mut sum = [Vec3A::ZERO; GROUP];
+        if W {
+            let slots = self.slots[a..b].chunks_exact(GROUP);
+            for (slot, ws) in slots.zip(self.slot_weights[a..b].chunks_exact(GROUP)) {
+                for ((s, &u), &w) in sum.iter_mut().zip(slot).zip(ws) {
+                    // SAFETY: as below.
+                    *s += unsafe { *src.get_unchecked(u as usize) } * w;
+                }
+            }
+        } else {
+            for slot in self.slots[a..b].chunks_exact(GROUP) {
+                for (s, &u) in sum.iter_mut().zip(slot) {
+                    // SAFETY: `Smoother::new` fills `slots` with neighbour indices (below `n`)
+                    // and the sentinel `n`; `src` holds `n + 1` points.
+                    *s += unsafe { *src.get_unchecked(u as usize) };
+                }
+            }
+        }
+        let v0 = g * GROUP;
+        for (l, s) in sum.iter().enumerate() {
+            let v = v0 + l;
+            let (p, inv) = (src[v], self.inv_degree[v]);
+            let mean = if W { *s } else { *s * inv };
+            dst[v] = if inv == 0.0 { p } else { p + (mean - p) * step };
+        }
+    }
+
+    /// [`Smoother::pass`], one vertex at a time.
+    fn pass_one_by_one<const W: bool>(
+        &self,
+        src: &[Vec3A],
+        dst: &mut [Vec3A],
+        range: std::ops::Range<usize>,
+        step: f32,
+    ) {
+        let n = self.inv_degree.len();
+        if range.is_empty() {
             return;
         }
         let (src, dst) = (&src[..n], &mut dst[..n]);
@@ -120,11 +294,19 @@ impl Smoother {
                     *offsets.get_unchecked(v) as usize,
                     *offsets.get_unchecked(v + 1) as usize,
                 );
-                for &u in nbrs.get_unchecked(a..b) {
-                    sum += *src.get_unchecked(u as usize);
+                if W {
+                    // `weights` has one entry per neighbour (checked by `pass`).
+                    for (&u, &w) in nbrs.get_unchecked(a..b).iter().zip(self.weights.get_unchecked(a..b)) {
+                        sum += *src.get_unchecked(u as usize) * w;
+                    }
+                } else {
+                    for &u in nbrs.get_unchecked(a..b) {
+                        sum += *src.get_unchecked(u as usize);
+                    }
                 }
             }
-            *d = p + (sum * inv - p) * step;
+            let mean = if W { sum } else { sum * inv };
+            *d = p + (mean - p) * step;
         }
     }
 }
@@ -155,6 +337,62 @@ mod tests {
         // Zero iterations: a copy.
         s.smooth(&p, 0, 0.5, &mut out, &mut tmp);
         assert!(out.iter().zip(&p).all(|(a, b)| Vec3::from(*a) == *b));
+    }
+
+    #[test]
+    fn distance_weight_pulls_towards_the_closer_neighbour() {
+        // One triangle: vertex 0 at the origin, its neighbours at distance 1 (+X) and 2 (+Y);
+        // mean edge 1.5, so at w = 1 the weights are 1.5/1 and 1.5/2, normalised 2/3 and 1/3:
+        // the weighted mean is (2/3, 2/3, 0). At w = 0.5: 1.25 and 0.875 of 2.125.
+        let p = [Vec3::ZERO, Vec3::X, Vec3::Y * 2.0];
+        let t = [[0, 1, 2]];
+        let one = |w: f32| {
+            let s = Smoother::with_distance_weight(&t, false, &p, w);
+            let (mut out, mut tmp) = (Vec::new(), Vec::new());
+            s.smooth(&p, 1, 1.0, &mut out, &mut tmp);
+            Vec3::from(out[0])
+        };
+        assert!((one(1.0) - Vec3::new(2.0 / 3.0, 2.0 / 3.0, 0.0)).length() < 1e-6);
+        let (a, b) = (1.25 / 2.125, 0.875 / 2.125);
+        assert!((one(0.5) - Vec3::new(a, 2.0 * b, 0.0)).length() < 1e-6);
+        // w = 0: the plain mean, bit for bit.
+        assert_eq!(one(0.0), Vec3::new(0.5, 1.0, 0.0));
+    }
+
+    #[test]
+    fn weighted_groups_equal_weighted_one_by_one() {
+        // A 20 × 9 grid with uneven spacing: the fused, grouped smoothing against plain
+        // passes one vertex at a time.
+        let (nx, ny) = (20u32, 9u32);
+        let n = (nx * ny) as usize;
+        let mut p = Vec::new();
+        for j in 0..ny {
+            for i in 0..nx {
+                let x = (i as f32 * 0.3).powf(1.5);
+                p.push(Vec3::new(x, j as f32 * 0.1, (x * 2.0).sin() * 0.1));
+            }
+        }
+        let mut tris = Vec::new();
+        for j in 0..ny - 1 {
+            for i in 0..nx - 1 {
+                let a = j * nx + i;
+                tris.push([a, a + 1, a + nx + 1]);
+                tris.push([a, a + nx + 1, a + nx]);
+            }
+        }
+        let s = Smoother::with_distance_weight(&tris, true, &p, 0.7);
+        let (mut out, mut tmp) = (Vec::new(), Vec::new());
+        s.smooth(&p, 7, 0.5, &mut out, &mut tmp);
+        let mut a: Vec<Vec3A> = p.iter().map(|&q| Vec3A::from(q)).collect();
+        let mut b = a.clone();
+        for _ in 0..7 {
+            s.pass_one_by_one::<true>(&a, &mut b, 0..n, 0.5);
+            std::mem::swap(&mut a, &mut b);
+        }
+        assert!(out
+            .iter()
+            .zip(&a)
+            .all(|(x, y)| x.to_array().map(f32::to_bits) == y.to_array().map(f32::to_bits)));
     }
 
     /// Plain Jacobi passes over the whole mesh, one after the other.

@@ -165,3 +165,58 @@ fn tension_common_checks() {
     set(&mut g, "d.pinBorderVertices", false);
     check_common(&mut g);
 }
+
+#[test]
+fn delta_mush_scale_scales_the_restored_offsets_per_axis() {
+    // Rest in: out = S(R) + scale ⊙ (R − S(R)). scale (1, 1, 0) keeps x and y of the rest
+    // mesh bit for bit and puts z on the smoothed rest mesh; (1, 1, 2) doubles z's offset.
+    let rest = sheet();
+    let s = Smoother::new(49, &rest.triangles, true);
+    let (mut smooth, mut tmp) = (Vec::new(), Vec::new());
+    s.smooth(&rest.positions, 10, 0.5, &mut smooth, &mut tmp);
+    for sz in [0.0, 2.0] {
+        let mut g = mush_rig("deltaMush", rest.clone());
+        set(&mut g, "d.scaleZ", sz);
+        let out = both(&mut g, "d.outputGeometry");
+        for ((o, r), sm) in out.positions.iter().zip(&rest.positions).zip(&smooth) {
+            assert_eq!((o.x, o.y), (r.x, r.y));
+            let want = sm.z + sz as f32 * (r.z - sm.z);
+            assert!((o.z - want).abs() < 1e-5, "{} vs {want}", o.z);
+        }
+    }
+    let mut g = mush_rig("deltaMush", noisy(&rest));
+    set(&mut g, "d.scale", glam::DVec3::new(0.5, 1.5, 0.8));
+    set(&mut g, "d.pinBorderVertices", false);
+    check_common(&mut g);
+}
+
+#[test]
+fn delta_mush_distance_weight_changes_the_smoothing_not_the_rest() {
+    let rest = sheet();
+    let spiked = with_positions(&rest, |v, p| if v == 24 { p + Vec3::Z * 0.5 } else { p });
+    // Rest in is still the rest mesh exactly.
+    let mut g = mush_rig("deltaMush", rest.clone());
+    set(&mut g, "d.distanceWeight", 1.0);
+    let out = both(&mut g, "d.outputGeometry");
+    assert_eq!(out.positions, rest.positions);
+    // displacement 0: the input smoothed with the rest-distance weights, which differ from
+    // the plain mean on the bumpy sheet.
+    let mut g = mush_rig("deltaMush", spiked.clone());
+    set(&mut g, "d.distanceWeight", 1.0);
+    set(&mut g, "d.displacement", 0.0);
+    let out = both(&mut g, "d.outputGeometry");
+    let smooth = |w: f32| {
+        let s = Smoother::with_distance_weight(&rest.triangles, true, &rest.positions, w);
+        let (mut o, mut tmp) = (Vec::new(), Vec::new());
+        s.smooth(&spiked.positions, 10, 0.5, &mut o, &mut tmp);
+        o
+    };
+    let (weighted, plain) = (smooth(1.0), smooth(0.0));
+    for (o, w) in out.positions.iter().zip(&weighted) {
+        assert!((*o - Vec3::from(*w)).length() < 1e-5);
+    }
+    assert!(weighted.iter().zip(&plain).any(|(a, b)| (*a - *b).length() > 1e-4));
+    set(&mut g, "d.distanceWeight", 1.5);
+    let err = g.get_path("d.outputGeometry").unwrap_err().to_string();
+    assert!(err.contains("deltaMush.distanceWeight"), "{err}");
+}

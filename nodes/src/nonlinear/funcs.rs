@@ -28,13 +28,18 @@
 //!   `A·D·sin(2π/λ·(clamp(y, lb, hb) + o))`, with `D = 1 − d·τ` for `d ≥ 0` (decaying away from
 //!   the centre) and `D = 1 + d·(1 − τ)` for `d < 0` (decaying towards it), where
 //!   `τ = |yc| / (the bound on yc's side)`.
-//! - **wave** (`amplitude`, `wavelength`, `offset`, `dropoff`, `minRadius` r0, `maxRadius` r1):
-//!   `r = √(x² + z²)`, `rc = clamp(r, r0, r1)`; Y moves by
-//!   `A·D·cos(2π/λ·(rc + o − r0))`, `D` as for sine with `τ = (rc − r0)/(r1 − r0)`.
+//! - **wave** (`amplitude`, `wavelength`, `offset`, `dropoff`, `dropoffPosition` p,
+//!   `minRadius` r0, `maxRadius` r1): `r = √(x² + z²)`, `rc = clamp(r, r0, r1)`; Y moves by
+//!   `A·D·cos(2π/λ·(rc + o − r0))`, `D` as for sine with `τ` the distance of
+//!   `t = (rc − r0)/(r1 − r0)` from the dropoff position relative to the way to the radius on
+//!   its side: `τ = (t − p)/(1 − p)` for `t ≥ p`, `(p − t)/p` below (at Maya's default p = 0,
+//!   `τ = t`). Maya's node reference describes `dropoffPosition` only as the "relative position
+//!   of dropoff between the min and the max radius"; this reading, the wave's counterpart of
+//!   the sine's dropoff measured from the handle's centre towards both bounds, is sinew's.
 
 use glam::Vec3;
 
-use crate::deformer::fastmath::sin_cos;
+use crate::deformer::fastmath::{cos, sin, sin_cos, sin_cos_near_zero};
 
 /// A nonLinear function with its parameters (checked and converted once per frame).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -118,6 +123,8 @@ pub enum Func {
         offset: f32,
         /// Dropoff.
         dropoff: f32,
+        /// Dropoff position, in [0, 1] between the min and max radius.
+        dropoff_position: f32,
     },
 }
 
@@ -145,13 +152,71 @@ pub trait PointFn: Copy {
     fn apply(&self, p: Vec3) -> Vec3;
 }
 
+/// How a kernel gets `(sin θ, cos θ)`: for any angle ([`AnyAngle`]), or for angles the frame
+/// knows to lie in a short range ([`NearAngle`], cheaper: no range reduction).
+pub trait Trig: Copy {
+    /// `(sin x, cos x)`.
+    fn sin_cos(&self, x: f32) -> (f32, f32);
+}
+
+/// Any angle: [`sin_cos`] with its reduction by π/2.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct AnyAngle;
+
+impl Trig for AnyAngle {
+    #[inline(always)]
+    fn sin_cos(&self, x: f32) -> (f32, f32) {
+        sin_cos(x)
+    }
+}
+
+/// The widest angle range [`NearAngle`] takes (|x − middle| ≤ 0.9, where the polynomials of
+/// [`sin_cos_near_zero`] stay within 2e-7).
+pub const NEAR_SPAN: f32 = 1.8;
+
+/// Angles within [`NEAR_SPAN`] of each other: the polynomials at `x − m` rotated by the
+/// middle `m` of the range (its sine and cosine computed once, in `f64`).
+#[derive(Clone, Copy, Debug)]
+pub struct NearAngle {
+    mid: f32,
+    sin_mid: f32,
+    cos_mid: f32,
+}
+
+impl NearAngle {
+    /// For angles between `a` and `b` (either order); `None` when they are more than
+    /// [`NEAR_SPAN`] apart (or not finite).
+    pub fn new(a: f32, b: f32) -> Option<Self> {
+        let (lo, hi) = (a.min(b), a.max(b));
+        if !(hi - lo <= NEAR_SPAN) {
+            return None;
+        }
+        let mid = 0.5 * lo + 0.5 * hi;
+        let (s, c) = f64::from(mid).sin_cos();
+        Some(NearAngle {
+            mid,
+            sin_mid: s as f32,
+            cos_mid: c as f32,
+        })
+    }
+}
+
+impl Trig for NearAngle {
+    #[inline(always)]
+    fn sin_cos(&self, x: f32) -> (f32, f32) {
+        let (s, c) = sin_cos_near_zero(x - self.mid);
+        (self.sin_mid * c + self.cos_mid * s, self.cos_mid * c - self.sin_mid * s)
+    }
+}
+
 /// Bend, prepared (curvature must not be 0: the caller skips the identity).
 #[derive(Clone, Copy, Debug)]
-pub struct BendFn {
+pub struct BendFn<T: Trig = AnyAngle> {
     half_k: f32,
     inv_k: f32,
     lb: f32,
     hb: f32,
+    trig: T,
 }
 
 impl BendFn {
@@ -162,17 +227,34 @@ impl BendFn {
             inv_k: 1.0 / k,
             lb,
             hb,
+            trig: AnyAngle,
         }
+    }
+
+    /// The same bend without range reduction, when its half angles between the bounds span
+    /// at most [`NEAR_SPAN`].
+    pub fn near(self) -> Option<BendFn<NearAngle>> {
+        let trig = NearAngle::new(self.half_k * self.lb, self.half_k * self.hb)?;
+        let BendFn {
+            half_k, inv_k, lb, hb, ..
+        } = self;
+        Some(BendFn {
+            half_k,
+            inv_k,
+            lb,
+            hb,
+            trig,
+        })
     }
 }
 
-impl PointFn for BendFn {
+impl<T: Trig> PointFn for BendFn<T> {
     #[inline(always)]
     fn apply(&self, p: Vec3) -> Vec3 {
         let yc = p.y.max(self.lb).min(self.hb);
         // Half-angle form: sin θ = 2 sh ch, cos θ = ch² − sh², 1 − cos θ = 2 sh² (no
         // cancellation for small θ).
-        let (sh, ch) = sin_cos(self.half_k * yc);
+        let (sh, ch) = self.trig.sin_cos(self.half_k * yc);
         let (s, c, one_minus_c) = (2.0 * sh * ch, ch * ch - sh * sh, 2.0 * sh * sh);
         let dy = p.y - yc;
         Vec3::new(
@@ -193,11 +275,12 @@ pub fn bend(p: Vec3, k: f32, lb: f32, hb: f32) -> Vec3 {
 
 /// Twist, prepared.
 #[derive(Clone, Copy, Debug)]
-pub struct TwistFn {
+pub struct TwistFn<T: Trig = AnyAngle> {
     lb: f32,
     inv_span: f32,
     a0: f32,
     a1: f32,
+    trig: T,
 }
 
 impl TwistFn {
@@ -208,15 +291,31 @@ impl TwistFn {
             inv_span: 1.0 / (hb - lb),
             a0,
             a1,
+            trig: AnyAngle,
         }
+    }
+
+    /// The same twist without range reduction, when its angles span at most [`NEAR_SPAN`].
+    pub fn near(self) -> Option<TwistFn<NearAngle>> {
+        let trig = NearAngle::new(self.a0, self.a1)?;
+        let TwistFn {
+            lb, inv_span, a0, a1, ..
+        } = self;
+        Some(TwistFn {
+            lb,
+            inv_span,
+            a0,
+            a1,
+            trig,
+        })
     }
 }
 
-impl PointFn for TwistFn {
+impl<T: Trig> PointFn for TwistFn<T> {
     #[inline(always)]
     fn apply(&self, p: Vec3) -> Vec3 {
         let t = unit(p.y, self.lb, self.inv_span);
-        let (s, c) = sin_cos((1.0 - t) * self.a0 + t * self.a1);
+        let (s, c) = self.trig.sin_cos((1.0 - t) * self.a0 + t * self.a1);
         Vec3::new(c * p.x - s * p.z, p.y, c * p.z + s * p.x)
     }
 }
@@ -284,7 +383,7 @@ impl PointFn for SquashFn {
         let u = (t - m) * if t < m { inv_m } else { inv_1m };
         let (sm, sm1_sq, e, k) = if u < 0.0 { start } else { end };
         let h = k * ((sm1_sq - u * u).max(0.0).sqrt() - e);
-        let (_, c) = sin_cos(u * std::f32::consts::FRAC_PI_2);
+        let c = cos(u * std::f32::consts::FRAC_PI_2);
         let scale = root_f * (c * c * sm + h) + 1.0;
         let scale = if scale.abs() < 1e-6 {
             1e-6f32.copysign(scale)
@@ -386,7 +485,7 @@ impl PointFn for SineFn {
     #[inline(always)]
     fn apply(&self, p: Vec3) -> Vec3 {
         let yc = p.y.max(self.lb).min(self.hb);
-        let (s, _) = sin_cos(self.freq * (yc + self.offset));
+        let s = sin(self.freq * (yc + self.offset));
         let tau = (yc.abs() * if yc >= 0.0 { self.inv_hb } else { self.inv_lb }).min(1.0);
         Vec3::new(p.x + self.amplitude * dropoff(self.drop, tau) * s, p.y, p.z)
     }
@@ -397,9 +496,10 @@ pub fn sine(p: Vec3, lb: f32, hb: f32, amplitude: f32, freq: f32, offset: f32, d
     SineFn::new(lb, hb, amplitude, freq, offset, drop).apply(p)
 }
 
-/// Wave, prepared.
+/// Wave, prepared. `AT` is false when the dropoff position is 0 (the default): `τ = t`
+/// without the per-point side selection.
 #[derive(Clone, Copy, Debug)]
-pub struct WaveFn {
+pub struct WaveFn<const AT: bool = false> {
     r0: f32,
     r1: f32,
     inv_span: f32,
@@ -407,11 +507,23 @@ pub struct WaveFn {
     freq: f32,
     phase: f32,
     drop: f32,
+    /// Dropoff position and the reciprocals of the ways to each radius (0 where empty).
+    position: f32,
+    inv_below: f32,
+    inv_above: f32,
 }
 
 impl WaveFn {
-    /// Prepares a wave of angular frequency `freq` (2π / wavelength).
+    /// Prepares a wave of angular frequency `freq` (2π / wavelength), dropoff position 0.
     pub fn new(r0: f32, r1: f32, amplitude: f32, freq: f32, offset: f32, drop: f32) -> Self {
+        WaveFn::<false>::with_position(r0, r1, amplitude, freq, offset, drop, 0.0)
+    }
+}
+
+impl<const AT: bool> WaveFn<AT> {
+    /// Prepares a wave whose dropoff is measured from `position` (in [0, 1] between the radii;
+    /// use `WaveFn::<true>` unless it is 0).
+    pub fn with_position(r0: f32, r1: f32, amplitude: f32, freq: f32, offset: f32, drop: f32, position: f32) -> Self {
         WaveFn {
             r0,
             r1,
@@ -420,17 +532,30 @@ impl WaveFn {
             freq,
             phase: offset - r0,
             drop,
+            position,
+            inv_below: if position > 0.0 { 1.0 / position } else { 0.0 },
+            inv_above: if position < 1.0 { 1.0 / (1.0 - position) } else { 0.0 },
         }
     }
 }
 
-impl PointFn for WaveFn {
+impl<const AT: bool> PointFn for WaveFn<AT> {
     #[inline(always)]
     fn apply(&self, p: Vec3) -> Vec3 {
         let r = (p.x * p.x + p.z * p.z).sqrt();
         let rc = r.max(self.r0).min(self.r1);
-        let (_, c) = sin_cos(self.freq * (rc + self.phase));
-        let tau = (rc - self.r0) * self.inv_span;
+        let c = cos(self.freq * (rc + self.phase));
+        let t = (rc - self.r0) * self.inv_span;
+        let tau = if AT {
+            let side = if t < self.position {
+                self.inv_below
+            } else {
+                self.inv_above
+            };
+            ((t - self.position).abs() * side).min(1.0)
+        } else {
+            t
+        };
         Vec3::new(p.x, p.y + self.amplitude * dropoff(self.drop, tau) * c, p.z)
     }
 }
@@ -438,6 +563,12 @@ impl PointFn for WaveFn {
 /// Wave (see the module docs).
 pub fn wave(p: Vec3, r0: f32, r1: f32, amplitude: f32, freq: f32, offset: f32, drop: f32) -> Vec3 {
     WaveFn::new(r0, r1, amplitude, freq, offset, drop).apply(p)
+}
+
+/// Wave with its dropoff measured from `position` (see the module docs).
+#[allow(clippy::too_many_arguments)]
+pub fn wave_at(p: Vec3, r0: f32, r1: f32, amplitude: f32, freq: f32, offset: f32, drop: f32, position: f32) -> Vec3 {
+    WaveFn::<true>::with_position(r0, r1, amplitude, freq, offset, drop, position).apply(p)
 }
 
 #[cfg(test)]
@@ -568,5 +699,51 @@ mod tests {
             wave(Vec3::new(0.3, 0.0, 0.4), 0.0, 1.0, 0.2, f, 0.0, 0.0),
             Vec3::new(0.3, -0.2, 0.4)
         ));
+    }
+
+    #[test]
+    fn near_angles_match_the_reduced_path() {
+        // Angles over a range of NEAR_SPAN around various middles: the rotated polynomial
+        // against the reduced sin_cos (both within 2e-7 of the truth).
+        for mid in [-7.0f32, -1.0, 0.0, 0.4, 3.0, 100.0] {
+            let near = NearAngle::new(mid - 0.9, mid + 0.9).unwrap();
+            for i in 0..=200 {
+                let x = mid - 0.9 + 1.8 * i as f32 / 200.0;
+                let (a, b) = (near.sin_cos(x), sin_cos(x));
+                assert!((a.0 - b.0).abs() < 5e-7 && (a.1 - b.1).abs() < 5e-7, "{x}: {a:?} {b:?}");
+            }
+        }
+        assert!(NearAngle::new(0.0, 2.0).is_none() && NearAngle::new(0.0, f32::NAN).is_none());
+        // The kernels: bend and twist through the near path agree with the reduced path.
+        let p = Vec3::new(0.3, 0.45, -0.2);
+        let b = BendFn::new(FRAC_PI_2, -1.0, 1.0);
+        assert!((b.near().unwrap().apply(p) - b.apply(p)).length() < 1e-6);
+        let t = TwistFn::new(-1.0, 1.0, 0.0, 1.0);
+        assert!((t.near().unwrap().apply(p) - t.apply(p)).length() < 1e-6);
+        assert!(BendFn::new(PI, -1.0, 1.0).near().is_none());
+    }
+
+    #[test]
+    fn wave_dropoff_is_measured_from_the_dropoff_position() {
+        // Wavelength 0.5 (cos = 1 at r = 0.5, −1 at r = 0.25 and 0.75), amplitude 0.2, dropoff 1,
+        // dropoff position 0.5 between radii 0 and 1: full amplitude at r = 0.5 (τ = 0), half
+        // a quarter of the way out on either side (τ = 0.25/0.5), none at the radii (τ = 1).
+        let f = 2.0 * PI / 0.5;
+        let at = |x: f32, d: f32| wave_at(Vec3::new(x, 0.0, 0.0), 0.0, 1.0, 0.2, f, 0.0, d, 0.5).y;
+        assert!((at(0.5, 1.0) - 0.2).abs() < 2e-6);
+        assert!((at(0.75, 1.0) + 0.1).abs() < 2e-6);
+        assert!((at(0.25, 1.0) + 0.1).abs() < 2e-6);
+        assert!(at(1.0, 1.0).abs() < 2e-6 && at(0.0, 1.0).abs() < 2e-6);
+        // Negative dropoff decays towards the position instead: 1 + d·(1 − τ).
+        assert!(at(0.5, -1.0).abs() < 2e-6);
+        assert!((at(1.0, -1.0) - 0.2).abs() < 2e-6);
+        // Position 0 is the plain wave, bit for bit, and the position-free path is that too.
+        for x in [0.0, 0.1, 0.37, 0.8, 1.4] {
+            let p = Vec3::new(x, 0.3, 0.2);
+            assert_eq!(
+                wave_at(p, 0.0, 1.0, 0.2, f, 0.1, 0.6, 0.0),
+                wave(p, 0.0, 1.0, 0.2, f, 0.1, 0.6)
+            );
+        }
     }
 }

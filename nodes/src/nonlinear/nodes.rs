@@ -89,6 +89,7 @@ pub const PARAMS: [(&str, &[Param]); 6] = [
             ("wavelength", 1.0, false),
             ("offset", 0.0, false),
             ("dropoff", 0.0, false),
+            ("dropoffPosition", 0.0, false),
         ],
     ),
 ];
@@ -135,6 +136,7 @@ pub const SHORT_NAMES: [&[(&str, &str)]; 6] = [
         ("wavelength", "wav"),
         ("offset", "off"),
         ("dropoff", "dr"),
+        ("dropoffPosition", "dp"),
     ],
 ];
 
@@ -233,6 +235,9 @@ impl DeformFunc {
                         dropoff: f,
                     }
                 } else {
+                    if !(0.0..=1.0).contains(&g) {
+                        return err(format!("dropoffPosition is {g}; give a value from 0 to 1"));
+                    }
                     Func::Wave {
                         r0: a,
                         r1: b,
@@ -240,6 +245,7 @@ impl DeformFunc {
                         wavelength: d,
                         offset: e,
                         dropoff: f,
+                        dropoff_position: g,
                     }
                 }
             }
@@ -308,6 +314,11 @@ impl Deformer for NonLinear {
         Ok(NonLinearFrame { func, to, back })
     }
 
+    fn writes_every_vertex(&self, f: &NonLinearFrame) -> bool {
+        // `deform` returns early, leaving the output as it is, exactly in these two cases.
+        !matches!(f.func, None | Some(Func::Bend { k: 0.0, .. }))
+    }
+
     fn deform(&self, _ty: &str, f: &NonLinearFrame, job: Job<'_>) -> Result<(), ComputeError> {
         let Some(func) = f.func else {
             return Ok(());
@@ -324,8 +335,16 @@ impl Deformer for NonLinear {
             };
         }
         match func {
-            Func::Bend { k, lb, hb } => run!(BendFn::new(k, lb, hb)),
-            Func::Twist { lb, hb, a0, a1 } => run!(TwistFn::new(lb, hb, a0, a1)),
+            // Bend and twist skip the trigonometric range reduction when the frame's angles lie
+            // in a short range (the usual case).
+            Func::Bend { k, lb, hb } => match BendFn::new(k, lb, hb).near() {
+                Some(f) => run!(f),
+                None => run!(BendFn::new(k, lb, hb)),
+            },
+            Func::Twist { lb, hb, a0, a1 } => match TwistFn::new(lb, hb, a0, a1).near() {
+                Some(f) => run!(f),
+                None => run!(TwistFn::new(lb, hb, a0, a1)),
+            },
             Func::Squash {
                 lb,
                 hb,
@@ -357,7 +376,25 @@ impl Deformer for NonLinear {
                 wavelength,
                 offset,
                 dropoff,
+                dropoff_position: 0.0,
             } => run!(WaveFn::new(r0, r1, amplitude, tau / wavelength, offset, dropoff)),
+            Func::Wave {
+                r0,
+                r1,
+                amplitude,
+                wavelength,
+                offset,
+                dropoff,
+                dropoff_position,
+            } => run!(WaveFn::<true>::with_position(
+                r0,
+                r1,
+                amplitude,
+                tau / wavelength,
+                offset,
+                dropoff,
+                dropoff_position
+            )),
         }
         Ok(())
     }

@@ -156,3 +156,34 @@ fn maya_short_names_resolve() {
         assert_eq!(g.get_path(&format!("h.{long}")).unwrap().as_f64(), Some(0.25));
     }
 }
+
+#[test]
+fn wave_dropoff_position_through_the_graph() {
+    // Vertices along the handle's X at r = 0, 0.25 … 1 (y = z = 0): wavelength 0.5, amplitude
+    // 0.2, dropoff 1 measured from dropoffPosition 0.5 (short name dp): full amplitude at
+    // r = 0.5 (cos 2π = 1), half at r = 0.25 and 0.75 (cos π = cos 3π = −1), none at the radii.
+    let mut g = nonlinear("deformWave", grid(5, 2, (0.0, 1.0), (0.0, 0.0)));
+    for (name, v) in [("amplitude", 0.2), ("wavelength", 0.5), ("dropoff", 1.0), ("dp", 0.5)] {
+        set(&mut g, &format!("h.{name}"), v);
+    }
+    assert_eq!(g.get_path("h.dropoffPosition").unwrap().as_f64(), Some(0.5));
+    let out = both(&mut g, "d.outputGeometry");
+    for (k, want) in [0.0, -0.1, 0.2, -0.1, 0.0].into_iter().enumerate() {
+        assert!((out.positions[k].y - want).abs() < 2e-6, "{k}: {}", out.positions[k]);
+    }
+    // The shared checks with a position inside, on a grid every vertex of which moves.
+    let mut g2 = nonlinear("deformWave", grid(4, 3, (0.3, 1.1), (-0.8, 0.7)));
+    for (name, v) in [
+        ("amplitude", 0.3),
+        ("wavelength", 1.7),
+        ("dropoff", 0.5),
+        ("maxRadius", 5.0),
+        ("dp", 0.3),
+    ] {
+        set(&mut g2, &format!("h.{name}"), v);
+    }
+    check_common(&mut g2);
+    set(&mut g, "h.dropoffPosition", 1.5);
+    let err = g.get_path("d.outputGeometry").unwrap_err().to_string();
+    assert!(err.contains("deformWave.dropoffPosition"), "{err}");
+}
