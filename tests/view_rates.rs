@@ -140,8 +140,16 @@ fn playback_and_reload_rates() {
         "biped hot reload from the save, 5 saves ({}): server reloaded after {} ms; page redrawn with \
          its panels after {} ms",
         view_bin(),
-        reloads.iter().map(|r| format!("{:.0}", r.0)).collect::<Vec<_>>().join(", "),
-        reloads.iter().map(|r| format!("{:.0}", r.1)).collect::<Vec<_>>().join(", "),
+        reloads
+            .iter()
+            .map(|r| format!("{:.0}", r.0))
+            .collect::<Vec<_>>()
+            .join(", "),
+        reloads
+            .iter()
+            .map(|r| format!("{:.0}", r.1))
+            .collect::<Vec<_>>()
+            .join(", "),
     );
     assert_eq!(b.js("return window.__errors;"), json!([]));
 
