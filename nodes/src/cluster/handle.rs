@@ -99,6 +99,14 @@ impl Deformer for Cluster {
     type Frame = Mat4;
 
     fn declare(s: &mut SpecBuilder, _base: &DeformerAttrs) -> (Self, Vec<AttrId>) {
+        // Maya's cluster short names (node reference, *cluster*).
+        s.maya_names(&[
+            ("matrix", "ma"),
+            ("bindPreMatrix", "pm"),
+            ("weightedMatrix", "wt"),
+            ("relative", "rel"),
+            ("geomMatrix", "gm"),
+        ]);
         let handle = HandleAttrs::declare(s);
         let ids = handle.ids();
         (Cluster { handle }, ids)

@@ -417,6 +417,15 @@ pub struct DeformerAttrs {
 impl DeformerAttrs {
     /// Declares the shared attributes on `s`.
     pub fn declare(s: &mut SpecBuilder) -> Self {
+        // Maya's short names (geometryFilter's `en ig og`, weightGeometryFilter's `wl`;
+        // see docs/rig-format.md, "Maya short names"). sinew's `weightList[i]` is Maya's
+        // `weightList[i].weights` flattened into one array.
+        s.maya_names(&[
+            ("inputGeometry", "ig"),
+            ("envelope", "en"),
+            ("weightList", "wl"),
+            ("outputGeometry", "og"),
+        ]);
         let input = s.input("inputGeometry", Arc::new(Mesh::default()));
         let envelope = s.input("envelope", 1.0);
         let weight_list = s.multi_input("weightList", Arc::new(Vec::<f64>::new()));

@@ -280,6 +280,8 @@ impl Deformer for NonLinear {
     type Frame = NonLinearFrame;
 
     fn declare(s: &mut SpecBuilder, _base: &DeformerAttrs) -> (Self, Vec<AttrId>) {
+        // Maya's nonLinear short names (node reference, *nonLinear*).
+        s.maya_names(&[("deformerData", "dd"), ("matrix", "ma")]);
         let data = s.input("deformerData", ObjectRef::default());
         let matrix = s.input("matrix", DMat4::IDENTITY);
         let geom = s.input("geomMatrix", DMat4::IDENTITY);
