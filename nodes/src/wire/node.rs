@@ -142,6 +142,9 @@ impl Deformer for Wire {
             .attr_doc(cache, "sampled base wires (WireCache)");
         s.keyable(base, false);
         s.affects(&[base.id(), dropoff.id(), scale.id()], &[cache.id()]);
+        // Maya's short names (node reference, Nodes/wire.html: rotation `ro`). The stored
+        // pages did not show those of deformedWire, baseWire, dropoffDistance and scale.
+        s.short_name(rotation, "ro");
         let ids = vec![cache.id(), deformed.id(), rotation.id()];
         (
             Wire {
