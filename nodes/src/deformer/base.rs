@@ -438,8 +438,15 @@ impl DeformerAttrs {
             .attr_doc(membership, "vertex indices deformed (empty = all)")
             .attr_doc(output, "the deformed mesh")
             .attr_doc(cache, "active vertices and weights (Membership)");
-        // Maya's short names (node reference, geometryFilter).
-        s.short_name(input, "ig").short_name(envelope, "en");
+        // Maya's short names, from Maya's node reference (Nodes/geometryFilter.html:
+        // inputGeometry `ig`, envelope `en`, outputGeometry `og`; Nodes/weightGeometryFilter.html:
+        // weightList `wl`). Maya's `input` (`ip`) compound and the `weights` (`w`) child of
+        // `weightList` have no counterpart here: sinew's `inputGeometry` is flat and
+        // `weightList[0]` holds the whole per-vertex array.
+        s.short_name(input, "ig")
+            .short_name(envelope, "en")
+            .short_name(output, "og")
+            .short_name(weight_list, "wl");
         s.keyable(weight_list, false).keyable(membership, false);
         s.affects(&[weight_list.id(), membership.id()], &[cache.id()]);
         DeformerAttrs {

@@ -289,6 +289,8 @@ impl Deformer for NonLinear {
             .attr_doc(matrix, "the handle's world matrix (the deformer axis is its Y axis)")
             .attr_doc(geom, "the deformed mesh's world matrix");
         s.keyable(data, false);
+        // Maya's short names (node reference, Nodes/nonLinear.html).
+        s.short_name(data, "dd").short_name(matrix, "ma");
         (
             NonLinear { data, matrix, geom },
             vec![data.id(), matrix.id(), geom.id()],
