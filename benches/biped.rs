@@ -10,6 +10,8 @@
 //! between cases for no reason of theirs, while alternating exposes every case to the same
 //! drift.
 //!
+//! `compiled_profiled` is `compiled` with profiling on (a clock read around every step).
+//!
 //! Run: `cargo bench --bench biped`.
 
 use std::hint::black_box;
@@ -19,6 +21,7 @@ use std::sync::Arc;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::DMat4;
 use sinew::prelude::*;
+use sinew_core::Profiler;
 
 fn biped(c: &mut Criterion) {
     let registry = default_registry().expect("registry");
@@ -96,6 +99,22 @@ fn biped(c: &mut Criterion) {
         frames(b, &mut for_ik_inst, &ik_handles, false)
     });
     g.bench_function("compiled_full", |b| frames(b, &mut inst, &handles, true));
+    // Profiling asked for (`sinew profile`, the viewer's profile tab): the same steps with a
+    // clock read around each. `compiled` above is the path when it is not asked for; that it
+    // costs nothing is measured across the commit that added profiling (docs/viewer.md).
+    let mut profiled = Instance::new(program.clone());
+    let mut profiler = Profiler::new(&program);
+    g.bench_function("compiled_profiled", |b| {
+        let mut f = 0u64;
+        b.iter(|| {
+            f += 1;
+            let time = Time::new((f % 48 + 1) as f64, 24.0);
+            profiler.evaluate(&mut profiled, time).expect("eval");
+            for h in &handles {
+                black_box(profiled.get_typed::<DMat4>(h));
+            }
+        })
+    });
     g.bench_function("lazy", |b| {
         let mut f = 0u64;
         b.iter(|| {

@@ -355,3 +355,37 @@ fn orient_joints_rewrites_the_rig_keeping_positions() {
     assert!(err.contains("--world-up"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn deformer_short_names_on_the_command_line() {
+    let dir = std::env::temp_dir().join(format!("sinew-deformer-short-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let rig = dir.join("rig.ron");
+    std::fs::write(
+        &rig,
+        r#"Rig(nodes: {
+  "h": transform(),
+  "cube": polyCube(deformers: ["cl", "mush"]),
+  "cl": cluster(),
+  "mush": deltaMush(),
+}, connections: ["h.wm -> cl.ma"])"#,
+    )
+    .unwrap();
+    let r = rig.to_str().unwrap();
+    // Maya's geometryFilter / cluster / tension short names, set and printed by the CLI.
+    let (code, out, err) = sinew(&[
+        "eval",
+        r,
+        "--frames",
+        "1..=1",
+        "--print",
+        "cl.en,cl.envelope,mush.en,h.tx",
+        "--set",
+        "cl.en=0.25",
+        "--set",
+        "h.tx=2",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(out.lines().nth(1), Some("1,0.25,0.25,1.0,2.0"), "{out}");
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -1,5 +1,6 @@
 //! The deformer example `graphs/examples/squash_mush.ron` (skin → lattice squash → delta
-//! mush): lazy and compiled agree bit for bit on every frame, the squash shortens and widens
+//! mush, written as the shape's `deformers:` list): the list makes the chain in order,
+//! lazy and compiled agree bit for bit on every frame, the squash shortens and widens
 //! the column, and the mush output stays close to its input.
 
 use std::path::Path;
@@ -27,6 +28,18 @@ fn squash_mush_example_squashes_and_matches_compiled() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs/examples/squash_mush.ron");
     let registry = default_registry().unwrap();
     let mut rig = load_rig(&path, &registry).unwrap_or_else(|d| panic!("{}", d.render()));
+    // The shape's `deformers: ["skin", "squash", "mush"]` made the chain, in that order,
+    // and connected the mush's rest mesh.
+    for (src, dst) in [
+        ("body.outMesh", "skin.inputGeometry"),
+        ("skin.outputGeometry", "squash.inputGeometry"),
+        ("squash.outputGeometry", "mush.inputGeometry"),
+        ("body.outMesh", "mush.originalGeometry"),
+    ] {
+        let g = &rig.graph;
+        let from = g.source_of(g.plug(dst).unwrap()).map(|p| g.plug_name(p));
+        assert_eq!(from.as_deref(), Some(src), "{dst}");
+    }
     let outs = ["skin.outputGeometry", "squash.outputGeometry", "mush.outputGeometry"];
     let program = Arc::new(Program::compile(&rig.graph, &CompileOptions::default()).unwrap());
     let handles: Vec<PlugHandle> = outs.iter().map(|p| program.handle(p).unwrap()).collect();

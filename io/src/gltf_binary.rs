@@ -225,34 +225,41 @@ impl Buffers {
                  max({MIN_DECODE_BUDGET}, 32 × its buffer bytes) decoded numbers (accessors are read once per use)"
             )));
         }
+        // The view must hold every element before anything is sized by the count.
+        let viewed = match acc.view() {
+            Some(view) => {
+                let elem = width * csize;
+                let stride = view.stride().unwrap_or(elem);
+                if stride < elem {
+                    return Err(err(format!(
+                        "byteStride {stride} is smaller than the element ({elem} bytes)"
+                    )));
+                }
+                let bytes = self.view_bytes(&view, acc.index(), ctx)?;
+                let need = if count == 0 {
+                    0
+                } else {
+                    acc.offset()
+                        .saturating_add((count - 1).saturating_mul(stride))
+                        .saturating_add(elem)
+                };
+                let data = bytes
+                    .get(acc.offset()..)
+                    .filter(|_| need <= bytes.len())
+                    .ok_or_else(|| {
+                        err(format!(
+                            "needs {need} bytes of buffer view {} but it has {}",
+                            view.index(),
+                            bytes.len()
+                        ))
+                    })?;
+                Some((data, stride))
+            }
+            None => None,
+        };
         self.budget.set(left - total);
         let mut out = vec![0.0f64; total];
-        if let Some(view) = acc.view() {
-            let elem = width * csize;
-            let stride = view.stride().unwrap_or(elem);
-            if stride < elem {
-                return Err(err(format!(
-                    "byteStride {stride} is smaller than the element ({elem} bytes)"
-                )));
-            }
-            let bytes = self.view_bytes(&view, acc.index(), ctx)?;
-            let need = if count == 0 {
-                0
-            } else {
-                acc.offset()
-                    .saturating_add((count - 1).saturating_mul(stride))
-                    .saturating_add(elem)
-            };
-            let data = bytes
-                .get(acc.offset()..)
-                .filter(|_| need <= bytes.len())
-                .ok_or_else(|| {
-                    err(format!(
-                        "needs {need} bytes of buffer view {} but it has {}",
-                        view.index(),
-                        bytes.len()
-                    ))
-                })?;
+        if let Some((data, stride)) = viewed {
             for i in 0..count {
                 for c in 0..width {
                     let o = i * stride + c * csize;
@@ -327,5 +334,75 @@ fn component(b: &[u8], dt: DataType, normalized: bool) -> f64 {
         (DataType::I8, false) => le(1) as u8 as i8 as f64,
         (DataType::I16, false) => le(2) as u16 as i16 as f64,
         (DataType::U8 | DataType::U16 | DataType::U32, _) => le(dt.size()) as f64,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A document whose accessor 0 is `count` scalars without a buffer view (zeros, with
+    /// one sparse substitution of element 0 by 0.0, as the spec requires of a view-less
+    /// accessor) and accessor 1 is `count` scalars in a 4-byte view.
+    fn doc(count: usize) -> gltf::Document {
+        let json = format!(
+            r#"{{"asset":{{"version":"2.0"}},"buffers":[{{"byteLength":4}}],
+            "bufferViews":[{{"buffer":0,"byteLength":4}}],
+            "accessors":[{{"componentType":5126,"count":{count},"type":"SCALAR",
+                           "sparse":{{"count":1,"indices":{{"bufferView":0,"componentType":5125}},
+                                      "values":{{"bufferView":0}}}}}},
+                         {{"bufferView":0,"componentType":5126,"count":{count},"type":"SCALAR"}}]}}"#
+        );
+        gltf::Gltf::from_slice(json.as_bytes()).expect("valid glTF").document
+    }
+
+    fn read(buffers: &Buffers, doc: &gltf::Document, index: usize) -> Result<Vec<f64>, GltfError> {
+        let acc = doc.accessors().nth(index).expect("accessor");
+        buffers.read(&acc, &[Dimensions::Scalar], Kind::Float, "test")
+    }
+
+    /// With 4 bytes of data the budget is its floor, 2^24 numbers: 256 reads of a
+    /// 2^16-element view-less accessor (the most such an accessor may have) use it up
+    /// exactly, and the 257th is refused with the budget named. A view-less accessor one
+    /// element over its limit is refused on its own.
+    #[test]
+    fn decoding_stops_at_the_file_budget() {
+        let buffers = Buffers::new(vec![vec![0; 4]]);
+        let d = doc(MIN_VIEWLESS_ELEMENTS);
+        let reads = MIN_DECODE_BUDGET / MIN_VIEWLESS_ELEMENTS;
+        assert_eq!(reads, 256);
+        for _ in 0..reads {
+            let v = read(&buffers, &d, 0).expect("within the budget");
+            assert_eq!(v.len(), MIN_VIEWLESS_ELEMENTS);
+        }
+        let e = read(&buffers, &d, 0).expect_err("over the budget").to_string();
+        assert!(e.contains("exceed the file's budget"), "{e}");
+        let fresh = Buffers::new(vec![vec![0; 4]]);
+        let e = read(&fresh, &doc(MIN_VIEWLESS_ELEMENTS + 1), 0)
+            .expect_err("over the view-less limit")
+            .to_string();
+        assert!(e.contains("without a buffer view"), "{e}");
+    }
+
+    /// The budget grows with the data: 32 numbers per buffer byte above the floor.
+    #[test]
+    fn the_budget_scales_with_the_buffer_bytes() {
+        let bytes = MIN_DECODE_BUDGET / 32 + 1000;
+        let buffers = Buffers::new(vec![vec![0; bytes]]);
+        assert_eq!(buffers.budget.get(), bytes * 32);
+        assert_eq!(buffers.viewless_limit, bytes);
+    }
+
+    /// A count the view cannot hold is refused before anything is sized by it, and the
+    /// refused read costs no budget.
+    #[test]
+    fn a_view_too_small_for_the_count_is_refused_without_spending_budget() {
+        let buffers = Buffers::new(vec![vec![0; 4]]);
+        let d = doc(1 << 22);
+        let e = read(&buffers, &d, 1).expect_err("view too small").to_string();
+        assert!(e.contains("needs 16777216 bytes of buffer view 0 but it has 4"), "{e}");
+        assert_eq!(buffers.budget.get(), MIN_DECODE_BUDGET);
+        let e = read(&buffers, &doc(1 << 31), 1).expect_err("huge").to_string();
+        assert!(e.contains("unreasonably large"), "{e}");
     }
 }

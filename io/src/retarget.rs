@@ -52,7 +52,7 @@ use super::bake::dag_order;
 use super::bvh::Bvh;
 use super::retarget_feet::{plant_feet, PlantInput};
 pub use super::retarget_feet::{FootContacts, RetargetOptions};
-pub use super::retarget_map::{canonical, default_map, parse_map};
+pub use super::retarget_map::{canonical, canonical_among, default_map, parse_map};
 
 /// What [`retarget_with`] did.
 #[derive(Clone, Debug, Default)]

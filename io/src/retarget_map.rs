@@ -34,9 +34,10 @@ const ALIASES: &[(&str, &[&str])] = &[
             "#forearm",
             "#radius",
             "#elbow",
+            "elbow#",
         ],
     ),
-    ("@hand", &["@hand", "hand#", "#hand", "#wrist"]),
+    ("@hand", &["@hand", "hand#", "#hand", "#wrist", "wrist#"]),
     (
         "@upleg",
         &[
@@ -103,6 +104,22 @@ pub fn canonical(name: &str) -> Option<String> {
     None
 }
 
+/// [`canonical`] of `name` among the joint names `names` of the same skeleton: where a
+/// skeleton has both a clavicle and a shoulder joint on a side (sinew's biped and the
+/// `skeletonize --template humanoid` names: `clavicle_L > shoulder_L > elbow_L > wrist_L`),
+/// the shoulder is the upper arm, not the clavicle that other schemes call a shoulder.
+pub fn canonical_among(name: &str, names: &[String]) -> Option<String> {
+    let c = canonical(name)?;
+    let Some(side) = c.strip_suffix("shoulder") else {
+        return Some(c);
+    };
+    let has_clavicle = |n: &String| normalize(n).contains("clavicle") && canonical(n).as_deref() == Some(c.as_str());
+    if normalize(name).contains("shoulder") && names.iter().any(has_clavicle) {
+        return Some(format!("{side}arm"));
+    }
+    Some(c)
+}
+
 /// Parses a map file: a RON map of source joint name to target node name.
 pub fn parse_map(text: &str, path: &Path) -> Result<Vec<(String, String)>, String> {
     let file: Arc<Path> = Arc::from(path);
@@ -132,13 +149,13 @@ pub fn parse_map(text: &str, path: &Path) -> Result<Vec<(String, String)>, Strin
 
 /// The default map: first source and target joints whose names are equal after dropping
 /// namespaces, case and separators (`mixamorig:LeftArm` = `LeftArm`), then the remaining
-/// ones with the same [`canonical`] name.
+/// ones with the same canonical name ([`canonical_among`] their own skeleton's names).
 pub fn default_map(source: &[String], target: &[String]) -> Vec<(String, String)> {
     let mut out = Vec::new();
     let mut used_s = HashSet::new();
     let mut used_t = HashSet::new();
     for s in source {
-        if canonical(s).is_none() {
+        if canonical_among(s, source).is_none() {
             continue;
         }
         if let Some(t) = target
@@ -151,16 +168,16 @@ pub fn default_map(source: &[String], target: &[String]) -> Vec<(String, String)
         }
     }
     for s in source.iter().filter(|s| !used_s.contains(*s)) {
-        let Some(c) = canonical(s) else { continue };
+        let Some(c) = canonical_among(s, source) else { continue };
         let taken = out
             .iter()
-            .any(|(a, _): &(String, String)| canonical(a).as_deref() == Some(c.as_str()));
+            .any(|(a, _): &(String, String)| canonical_among(a, source).as_deref() == Some(c.as_str()));
         if taken {
             continue;
         }
         if let Some(t) = target
             .iter()
-            .find(|t| !used_t.contains(*t) && canonical(t).as_deref() == Some(c.as_str()))
+            .find(|t| !used_t.contains(*t) && canonical_among(t, target).as_deref() == Some(c.as_str()))
         {
             used_t.insert(t.clone());
             out.push((s.clone(), t.clone()));
@@ -171,7 +188,7 @@ pub fn default_map(source: &[String], target: &[String]) -> Vec<(String, String)
 
 #[cfg(test)]
 mod tests {
-    use super::canonical;
+    use super::{canonical, canonical_among};
 
     /// Names from Mixamo, CMU/BVH, Unreal-style and the example biped (`hip_L`, `knee_L`,
     /// `ankle_L`, `ball_L`) map to the same canonical joints; `hip` alone is the pelvis.
@@ -194,5 +211,19 @@ mod tests {
             assert_eq!(canonical(name).as_deref(), Some(want), "{name}");
         }
         assert_eq!(canonical("tail_03"), None);
+        // The biped's arm: elbow and wrist by name, its shoulder (below a clavicle) the
+        // upper arm; without a clavicle `shoulder_L` stays the clavicle.
+        assert_eq!(canonical("elbow_L").as_deref(), Some("leftforearm"));
+        assert_eq!(canonical("wrist_R").as_deref(), Some("righthand"));
+        let biped: Vec<String> = ["clavicle_L", "shoulder_L", "elbow_L", "clavicle_R", "shoulder_R"]
+            .map(String::from)
+            .to_vec();
+        assert_eq!(canonical_among("clavicle_L", &biped).as_deref(), Some("leftshoulder"));
+        assert_eq!(canonical_among("shoulder_L", &biped).as_deref(), Some("leftarm"));
+        assert_eq!(canonical_among("shoulder_R", &biped).as_deref(), Some("rightarm"));
+        assert_eq!(
+            canonical_among("shoulder_L", &biped[1..2]).as_deref(),
+            Some("leftshoulder")
+        );
     }
 }

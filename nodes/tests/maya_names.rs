@@ -60,3 +60,70 @@ fn maya_paths_resolve_in_graphs_and_programs() {
     assert_eq!(p.handle("hip.rx").unwrap(), p.handle("hip.rotateX").unwrap());
     assert_eq!(p.handle("knee.wm").unwrap(), p.handle("knee.worldMatrix").unwrap());
 }
+
+/// Deformer short names from Maya's node reference (geometryFilter, weightGeometryFilter,
+/// cluster, softMod, ffd, lattice, wire, nonLinear, tension, wrap pages).
+const DEFORMER_NAMES: [(&str, &str, &str); 31] = [
+    ("cluster", "ig", "inputGeometry"),
+    ("cluster", "og", "outputGeometry"),
+    ("cluster", "en", "envelope"),
+    ("cluster", "wl[0]", "weightList[0]"),
+    ("cluster", "ma", "matrix"),
+    ("cluster", "pm", "bindPreMatrix"),
+    ("cluster", "wt", "weightedMatrix"),
+    ("cluster", "rel", "relative"),
+    ("cluster", "gm", "geomMatrix"),
+    ("softMod", "fcr", "falloffCenter"),
+    ("softMod", "fcp[0]", "falloffCurve_Position[0]"),
+    ("softMod", "pm", "bindPreMatrix"),
+    ("ffd", "dlp", "deformedLatticePoints"),
+    ("ffd", "dlm", "deformedLatticeMatrix"),
+    ("ffd", "blm", "baseLatticeMatrix"),
+    ("ffd", "lo", "local"),
+    ("ffd", "lis", "localInfluenceS"),
+    ("ffd", "liu", "localInfluenceU"),
+    ("ffd", "og", "outputGeometry"),
+    ("lattice", "lo", "latticeOutput"),
+    ("lattice", "td", "tDivisions"),
+    ("wire", "ro", "rotation"),
+    ("wire", "en", "envelope"),
+    ("nonLinear", "dd", "deformerData"),
+    ("nonLinear", "ma", "matrix"),
+    ("deltaMush", "og", "outputGeometry"),
+    ("tension", "pbv", "pinBorderVertices"),
+    ("wrap", "bp[0]", "basePoints[0]"),
+    ("wrap", "dp[0]", "driverPoints[0]"),
+    ("wrap", "md", "maxDistance"),
+    ("proximityWrap", "wl[0]", "weightList[0]"),
+];
+
+#[test]
+fn deformer_short_names_resolve_in_graphs_and_rig_files() {
+    let mut g = Graph::new(sinew_nodes::registry().unwrap());
+    for (ty, short, long) in DEFORMER_NAMES {
+        let node = format!("a_{ty}");
+        if g.find_node(&node).is_none() {
+            g.add_node(ty, &node).unwrap();
+        }
+        let (s, l) = (format!("{node}.{short}"), format!("{node}.{long}"));
+        assert_eq!(g.plug(&s).unwrap(), g.plug(&l).unwrap(), "{s}");
+    }
+    // A rig written with short names only: a cluster at envelope 0.5 whose handle moved
+    // +2 in X moves every vertex +1 in X (relative off, bindPreMatrix identity).
+    let text = r#"Rig(nodes: {
+        "h": transform(t: (2, 0, 0)),
+        "cube": polyCube(),
+        "cl": cluster(en: 0.5, rel: false),
+    }, connections: ["cube.output -> cl.ig", "h.wm -> cl.ma"])"#;
+    let reg = sinew_nodes::registry().unwrap();
+    let mut r = sinew_core::load_rig_str(text, std::path::Path::new("mem.ron"), &reg)
+        .unwrap_or_else(|d| panic!("{}", d.render()));
+    let (Ok(sinew_core::Value::Mesh(out)), Ok(sinew_core::Value::Mesh(rest))) =
+        (r.graph.get_path("cl.og"), r.graph.get_path("cube.output"))
+    else {
+        panic!("meshes")
+    };
+    for (o, p) in out.positions.iter().zip(&rest.positions) {
+        assert_eq!(*o, *p + glam::Vec3::X);
+    }
+}

@@ -81,7 +81,7 @@ pub fn import(model: &Path, out: &Path, flags: &ImportFlags<'_>, registry: &Arc<
                 );
             }
             let text = read_text(model, DATA).map_err(|e| format!("cannot read {}: {e}", model.display()))?;
-            let bvh = parse_bvh(&text).map_err(|e| format!("{}:{e}", model.display()))?;
+            let bvh = parse_bvh(&text).map_err(|e| format!("{}:{}: {}", model.display(), e.line, e.message))?;
             (import_bvh(&bvh, &BvhImportOptions { name: stem })?.rig, Vec::new())
         }
         _ => {

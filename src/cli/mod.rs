@@ -145,7 +145,7 @@ enum Command {
         /// The rig file.
         rig: PathBuf,
         /// Frames: START..=END, START..END or one frame (default: the rig's frame range).
-        #[arg(long)]
+        #[arg(long, allow_hyphen_values = true)]
         frames: Option<String>,
         /// Frames per second (default: the rig's fps, else 24).
         #[arg(long)]
@@ -162,7 +162,7 @@ enum Command {
         /// The rig file.
         rig: PathBuf,
         /// Frames: START..=END, START..END or one frame (default: the rig's frame range).
-        #[arg(long)]
+        #[arg(long, allow_hyphen_values = true)]
         frames: Option<String>,
         /// Frames per second (default: the rig's fps, else 24).
         #[arg(long)]
@@ -220,7 +220,7 @@ enum Command {
         rig: PathBuf,
         /// Frames: START..=END, START..END or one frame (default: the rig's frame range);
         /// frame START becomes glTF time 0.
-        #[arg(long)]
+        #[arg(long, allow_hyphen_values = true)]
         frames: Option<String>,
         /// Frames per second (default: the rig's fps, else 24).
         #[arg(long)]

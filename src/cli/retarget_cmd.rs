@@ -25,7 +25,7 @@ pub fn retarget_cmd(
     let inputs: Vec<&Path> = [Some(mocap), Some(rig_path), map].into_iter().flatten().collect();
     super::paths::check_outputs(&inputs, &[out])?;
     let text = read_text(mocap, DATA).map_err(|e| format!("cannot read {}: {e}", mocap.display()))?;
-    let bvh = parse_bvh(&text).map_err(|e| format!("{}:{e}", mocap.display()))?;
+    let bvh = parse_bvh(&text).map_err(|e| format!("{}:{}: {}", mocap.display(), e.line, e.message))?;
     let pairs = match map {
         Some(p) => {
             let t = read_text(p, RIG_TEXT).map_err(|e| format!("cannot read {}: {e}", p.display()))?;

@@ -358,3 +358,133 @@ fn fox_has_four_legs_a_head_and_a_tail() {
         assert!(chain(e).len() >= 2, "head/tail chain {:?}", names(&chain(e)));
     }
 }
+
+/// `--template humanoid` output drives from motion capture with the default joint map:
+/// the straight T-pose capsule humanoid (same rest pose as the CMU take) skeletonized
+/// with the template, then the CMU walk retargeted onto the written rig. Every template
+/// joint with a counterpart in the take is mapped by name (legs, arms with clavicles,
+/// pelvis, head); joints stay rigid (every bone keeps its rest length on every frame);
+/// the feet take strides (each leads the other by a good part of the leg in turn) and
+/// the knees bend.
+#[test]
+fn humanoid_template_takes_a_retargeted_walk() {
+    use crate::io::parse_bvh;
+    use crate::io::retarget::{retarget_with, RetargetOptions};
+    use sinew_core::Time;
+    use sinew_nodes::skeletonize::bodies;
+    let bvh_path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/assets/bvh/cmu_12_01_walk.bvh");
+    if !bvh_path.is_file() {
+        eprintln!("skipping the template retarget test: {} is absent", bvh_path.display());
+        return;
+    }
+    let registry = crate::default_registry().unwrap();
+    let d = tmp("template-retarget");
+    let body = bodies::humanoid(false, 12);
+    let obj = d.join("body.obj");
+    std::fs::write(&obj, obj_text(&body.mesh)).unwrap();
+    let out = d.join("body.ron");
+    let opts = SkeletonizeOptions {
+        template: Some(Template::Humanoid),
+        ..Default::default()
+    };
+    skeletonize_cmd(&obj, &out, &opts, &registry).unwrap();
+    let mut graph = crate::cli::rig_cmds::load(&out, &registry).unwrap().graph;
+    let bvh = parse_bvh(&std::fs::read_to_string(&bvh_path).unwrap()).unwrap();
+    let report = retarget_with(&bvh, &mut graph, None, &RetargetOptions::default()).unwrap();
+    let mapped = |t: &str| report.pairs.iter().find(|p| p.1 == t).map(|p| p.0.as_str());
+    let expect = [
+        ("Hips", "pelvis"),
+        ("Head", "head"),
+        ("LeftUpLeg", "hip_L"),
+        ("LeftLeg", "knee_L"),
+        ("LeftFoot", "ankle_L"),
+        ("LeftToeBase", "ball_L"),
+        ("RightUpLeg", "hip_R"),
+        ("RightLeg", "knee_R"),
+        ("RightFoot", "ankle_R"),
+        ("RightToeBase", "ball_R"),
+        ("LeftShoulder", "clavicle_L"),
+        ("LeftArm", "shoulder_L"),
+        ("LeftForeArm", "elbow_L"),
+        ("LeftHand", "wrist_L"),
+        ("RightShoulder", "clavicle_R"),
+        ("RightArm", "shoulder_R"),
+        ("RightForeArm", "elbow_R"),
+        ("RightHand", "wrist_R"),
+    ];
+    for (s, t) in expect {
+        assert_eq!(mapped(t), Some(s), "{t}: pairs {:?}", report.pairs);
+    }
+    let fps = report.fps;
+    let world = |g: &mut sinew_core::Graph, n: &str, f: i64| -> DVec3 {
+        g.set_time(Time::new(f as f64, fps));
+        match g.get_path(&format!("{n}.worldMatrix")).unwrap() {
+            Value::Matrix(m) => m.w_axis.truncate(),
+            v => panic!("{n}.worldMatrix is {v:?}"),
+        }
+    };
+    let joints: Vec<(String, String)> = graph
+        .nodes()
+        .into_iter()
+        .filter(|&id| graph.node_type(id) == Some("joint"))
+        .filter_map(|id| {
+            let p = graph.parent_of(id)?;
+            (graph.node_type(p) == Some("joint")).then(|| {
+                (
+                    graph.node_name(id).unwrap().to_string(),
+                    graph.node_name(p).unwrap().to_string(),
+                )
+            })
+        })
+        .collect();
+    let rest: Vec<f64> = joints
+        .iter()
+        .map(|(c, p)| world(&mut graph, c, 0).distance(world(&mut graph, p, 0)))
+        .collect();
+    let leg = rest[joints.iter().position(|j| j.0 == "knee_L").unwrap()]
+        + rest[joints.iter().position(|j| j.0 == "ankle_L").unwrap()];
+    // Frame 0 of this take is a calibration pose; the walk is frames 1..
+    let frames: Vec<i64> = (1..bvh.frame_count as i64).step_by(4).collect();
+    // Horizontal offset from the right ankle to the left one, per frame.
+    let mut apart = Vec::new();
+    let mut knee_angles = Vec::new();
+    for &f in &frames {
+        for ((c, p), r) in joints.iter().zip(&rest) {
+            let l = world(&mut graph, c, f).distance(world(&mut graph, p, f));
+            assert!(
+                (l - r).abs() <= 1e-9 * leg.max(1.0),
+                "{p}->{c} at frame {f}: {l} vs rest {r}"
+            );
+        }
+        let d = world(&mut graph, "ankle_L", f) - world(&mut graph, "ankle_R", f);
+        apart.push(DVec3::new(d.x, 0.0, d.z));
+        let (h, k, a) = (
+            world(&mut graph, "hip_L", f),
+            world(&mut graph, "knee_L", f),
+            world(&mut graph, "ankle_L", f),
+        );
+        knee_angles.push((h - k).angle_between(a - k).to_degrees());
+    }
+    // Strides: along the walk (the direction the offset varies most in, away from
+    // its mean; the hips' width is the rest), the left foot is well ahead of the right
+    // one on some frames and well behind it on others.
+    let mean = apart.iter().copied().sum::<DVec3>() / apart.len() as f64;
+    let widest = apart
+        .iter()
+        .map(|d| *d - mean)
+        .max_by(|a, b| a.length().total_cmp(&b.length()))
+        .unwrap();
+    let axis = widest.normalize();
+    let ahead = apart.iter().map(|d| d.dot(axis)).fold(f64::MIN, f64::max);
+    let behind = apart.iter().map(|d| d.dot(axis)).fold(f64::MAX, f64::min);
+    assert!(ahead > 0.3 * leg, "the left foot leads by {ahead} at most (leg {leg})");
+    assert!(
+        behind < -0.3 * leg,
+        "the left foot trails by {} at most (leg {leg})",
+        -behind
+    );
+    // A straight leg at rest (180°); the walk bends the knee by tens of degrees.
+    let least = knee_angles.iter().copied().fold(f64::MAX, f64::min);
+    assert!(least < 150.0, "the left knee never bends: {least}°");
+    let _ = std::fs::remove_dir_all(&d);
+}

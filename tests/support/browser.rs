@@ -10,6 +10,12 @@ use std::time::{Duration, Instant};
 use serde_json::{json, Value};
 
 pub const SINEW: &str = env!("CARGO_BIN_EXE_sinew");
+
+/// The `sinew` the viewer tests serve with: `SINEW_VIEW_BIN` when set (e.g. a release build,
+/// to measure rates), else the binary cargo built for the tests.
+pub fn view_bin() -> String {
+    std::env::var("SINEW_VIEW_BIN").unwrap_or_else(|_| SINEW.to_string())
+}
 pub const WIDTH: u32 = 1100;
 pub const HEIGHT: u32 = 680;
 
@@ -232,7 +238,7 @@ pub mod image {
 
 /// `sinew view RIG --port 0`: the process and the page's address.
 pub fn serve(rig: &Path) -> (Proc, String) {
-    let mut child = Command::new(SINEW)
+    let mut child = Command::new(view_bin())
         .args(["view", rig.to_str().unwrap(), "--port", "0"])
         .stdout(Stdio::piped())
         .stderr(Stdio::inherit())

@@ -42,12 +42,19 @@ function resize() {
   camera.aspect = w / Math.max(h, 1);
   camera.updateProjectionMatrix();
 }
-window.addEventListener('resize', resize);
+window.addEventListener('resize', () => { resize(); invalidate(); });
+
+// Drawing on demand: an animation frame renders only when something drawn changed (a
+// frame, the camera, a highlight, the size), so an idle viewer costs no CPU.
+let needsRender = true;
+function invalidate() { needsRender = true; }
+controls.addEventListener('change', invalidate);
 
 function render() {
   controls.update();
   renderer.render(scene3, camera);
   state.renders++;
+  needsRender = false;
 }
 
 function frameAll() {
@@ -62,6 +69,7 @@ function frameAll() {
   camera.near = r / 100; camera.far = r * 100;
   camera.updateProjectionMatrix();
   controls.update();
+  invalidate();
 }
 state.frameAll = frameAll;
 
@@ -81,6 +89,7 @@ async function fetchFrame(f) {
 function applyProblems() {
   state.problemNodes = new Map(state.problems.filter((p) => p.node).map((p) => [p.node, p.kind]));
   if (drawing) drawing.highlight(state.selected, state.problemNodes);
+  invalidate();
   P.renderOverlay(state.loadErrors, state.problems);
   P.markNodeList(state);
 }
@@ -92,6 +101,7 @@ function showBuffer(fr, f) {
   state.evalUs = fr.evalUs;
   state.problems = fr.problems;
   drawing.update(fr.buf);
+  invalidate();
   state.framesShown++;
   applyProblems();
   $('scrub').value = state.frame;
@@ -178,6 +188,7 @@ async function select(name) {
   state.selected = name;
   P.renderNodeList(state, select);
   if (drawing) drawing.highlight(name, state.problemNodes);
+  invalidate();
   const [r] = await Promise.all([fetch(`/api/node?name=${encodeURIComponent(name)}`), P.renderGraph(name, select)]);
   if (r.ok) P.renderAttrs(await r.json(), setAttr);
   state.graphCenter = name;
@@ -285,7 +296,7 @@ function tick(now) {
     rateCount = 0; rateT0 = now;
     $('rate').textContent = `${state.playing ? state.rate.toFixed(1) + ' fps · ' : ''}eval ${state.evalUs.toFixed(0)} µs · ${state.fps} fps rig`;
   }
-  render();
+  if (needsRender) render();
 }
 
 // Hot reload: the server sends `reload` (with its timings) when a file the rig uses changed.

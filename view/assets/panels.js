@@ -176,6 +176,13 @@ export async function renderGraph(selected, onPick) {
   const r = await fetch(`/api/graph?node=${encodeURIComponent(selected)}&depth=2`);
   div.innerHTML = r.ok ? await r.text() : '';
   div.querySelectorAll('[data-node]').forEach((g) => { g.onclick = () => onPick(g.dataset.node); });
+  // Scroll the panel (only the panel) so the selected node is in the middle of it.
+  const g = div.querySelector(`[data-node="${CSS.escape(selected)}"]`);
+  if (g) {
+    const box = g.getBoundingClientRect(), panel = div.getBoundingClientRect();
+    div.scrollLeft += box.left + box.width / 2 - (panel.left + panel.width / 2);
+    div.scrollTop += box.top + box.height / 2 - (panel.top + panel.height / 2);
+  }
 }
 
 /// The profile table (from /api/profile): per node type and per node, sorted by total

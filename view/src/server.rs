@@ -96,7 +96,16 @@ impl Viewer {
     /// Loads the rig (a rig that fails to load is served with its errors) and starts
     /// serving.
     pub fn start(opts: ViewOptions) -> Result<Viewer, String> {
-        let server = Server::http(&opts.addr).map_err(|e| format!("cannot listen on {}: {e}", opts.addr))?;
+        let listen_error = |e: &dyn std::fmt::Display| format!("cannot listen on {}: {e}", opts.addr);
+        let listener = std::net::TcpListener::bind(&opts.addr).map_err(|e| listen_error(&e))?;
+        // No Nagle delay: tiny_http writes a response's headers and body separately, and with
+        // Nagle's algorithm the body's last segment waits for the client's delayed ACK, 40 ms
+        // on Linux, per frame of playback on a kept-alive connection. Linux and the BSDs copy
+        // TCP_NODELAY from the listening socket to the accepted ones.
+        socket2::SockRef::from(&listener)
+            .set_tcp_nodelay(true)
+            .map_err(|e| listen_error(&e))?;
+        let server = Server::from_listener(listener, None).map_err(|e| listen_error(&e))?;
         let addr = server
             .server_addr()
             .to_ip()

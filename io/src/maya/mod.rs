@@ -146,7 +146,8 @@ pub fn import_maya_file(
     opts: &MayaImportOptions,
 ) -> Result<MayaImport, MayaError> {
     let file = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| MayaError {
+    // Regular files only, within the size limit (a device such as /dev/zero is refused).
+    let bytes = sinew_core::files::read_file(path, sinew_core::files::DATA).map_err(|e| MayaError {
         file: file.clone(),
         line: 0,
         col: 0,

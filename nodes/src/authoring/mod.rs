@@ -1,9 +1,11 @@
-//! Declarative authoring of IK, constraints and skin binding: the authoring fields of
-//! `ikRP`, `ikSC`, `ikSpline`, the constraints and `skinCluster` (see
+//! Declarative authoring of IK, constraints, skin binding and deformer chains: the
+//! authoring fields of `ikRP`, `ikSC`, `ikSpline`, the constraints, `skinCluster` and the
+//! shapes' `deformers:` list (see
 //! `sinew_core::rig::expand`), expanded at load into the connections, values and helper
 //! nodes a rigger would otherwise write by hand, as Maya's `ikHandle`,
 //! `*Constraint` and `skinCluster` commands make them.
 
+pub mod chain;
 pub mod constraint;
 pub mod ik;
 pub mod skin;

@@ -137,10 +137,7 @@ fn connect_geometry(cx: &mut ExpandContext<'_>, g: &Node, skin: NodeId) {
         cx.plug_ref(g, "geometry")
     } else {
         let Some(n) = cx.node_ref(g, "geometry") else { return };
-        let out = ["outputGeometry", "outMesh", "output"].into_iter().find_map(|a| {
-            cx.attr(n, a)
-                .filter(|p| cx.graph().plug_type(*p).ok() == Some(sinew_core::AttrType::Mesh))
-        });
+        let out = super::chain::mesh_output(cx, n);
         if out.is_none() {
             cx.error(
                 &g.span,
@@ -150,7 +147,8 @@ fn connect_geometry(cx: &mut ExpandContext<'_>, g: &Node, skin: NodeId) {
         }
         out
     };
-    if let Some(src) = src {
+    // A shape's `deformers:` list may have made this connection already.
+    if let Some(src) = src.filter(|s| cx.graph().source_of(dst) != Some(*s)) {
         cx.connect(src, dst, &g.span);
     }
 }

@@ -52,6 +52,12 @@ impl HandleAttrs {
                 "use weightedMatrix only (parents of the handle do not deform)",
             )
             .attr_doc(geom, "the deformed mesh's world matrix");
+        // Maya's short names (node reference, Nodes/cluster.html and Nodes/softMod.html).
+        s.short_name(matrix, "ma")
+            .short_name(bind_pre, "pm")
+            .short_name(weighted, "wt")
+            .short_name(relative, "rel")
+            .short_name(geom, "gm");
         HandleAttrs {
             matrix,
             bind_pre,
@@ -99,6 +105,14 @@ impl Deformer for Cluster {
     type Frame = Mat4;
 
     fn declare(s: &mut SpecBuilder, _base: &DeformerAttrs) -> (Self, Vec<AttrId>) {
+        // Maya's cluster short names (node reference, *cluster*).
+        s.maya_names(&[
+            ("matrix", "ma"),
+            ("bindPreMatrix", "pm"),
+            ("weightedMatrix", "wt"),
+            ("relative", "rel"),
+            ("geomMatrix", "gm"),
+        ]);
         let handle = HandleAttrs::declare(s);
         let ids = handle.ids();
         (Cluster { handle }, ids)

@@ -92,6 +92,11 @@ impl Deformer for SoftMod {
             .attr_doc(interp, "falloff ramp key interpolation")
             .attr_doc(curve, "the parsed falloff ramp");
         s.keyable(position, false).keyable(value, false).keyable(interp, false);
+        // Maya's short names (node reference, Nodes/softMod.html: falloffCenter `fcr`,
+        // falloffCurve_Position `fcp`). The stored reference pages did not show the short
+        // names of falloffRadius, falloffMode, falloffCurve_FloatValue and
+        // falloffCurve_Interp, so they have none here rather than guessed ones.
+        s.short_name(center, "fcr").short_name(position, "fcp");
         s.affects(&[position.id(), value.id(), interp.id()], &[curve.id()]);
         let mut ids = handle.ids();
         ids.extend([radius.id(), center.id(), mode.id(), curve.id()]);

@@ -141,3 +141,36 @@ fn soft_mod_common_checks() {
     set(&mut g, "d.falloffRadius", 10.0);
     check_common(&mut g);
 }
+
+/// Maya's short names on the plugin's spec (so rig files and `--set` take them): the same
+/// cluster driven through `wl`, `pm`, `ma` and `en` deforms exactly as through the long
+/// names above (bind at y = 5, moved to x = 2, weight 0.5 and envelope 0.5: +0.5 in x).
+#[test]
+fn cluster_takes_mayas_short_names() {
+    let mut g = rig("cluster", bar());
+    let input = bar();
+    let n = input.positions.len();
+    set(&mut g, "d.pm", DMat4::from_translation(DVec3::new(0.0, -5.0, 0.0)));
+    set(&mut g, "d.ma", DMat4::from_translation(DVec3::new(2.0, 5.0, 0.0)));
+    set(&mut g, "d.wl[0]", Arc::new(vec![0.5; n]));
+    set(&mut g, "d.en", 0.5);
+    let out = both(&mut g, "d.og");
+    for (o, p) in out.positions.iter().zip(&input.positions) {
+        assert_eq!(*o, *p + Vec3::new(0.5, 0.0, 0.0));
+    }
+    let spec = g.registry().spec("cluster").unwrap().clone();
+    for (short, long) in [
+        ("ig", "inputGeometry"),
+        ("og", "outputGeometry"),
+        ("en", "envelope"),
+        ("wl", "weightList"),
+        ("ma", "matrix"),
+        ("pm", "bindPreMatrix"),
+        ("wt", "weightedMatrix"),
+        ("rel", "relative"),
+        ("gm", "geomMatrix"),
+    ] {
+        assert_eq!(spec.find(short), spec.find(long), "{short}");
+        assert!(spec.find(long).is_some(), "{long}");
+    }
+}

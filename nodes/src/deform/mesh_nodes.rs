@@ -182,6 +182,14 @@ impl NodeType for PolyPrimitive {
         &self.spec
     }
 
+    fn authoring_fields(&self) -> &[sinew_core::AuthoringField] {
+        &crate::authoring::chain::FIELDS
+    }
+
+    fn expand(&self, cx: &mut sinew_core::ExpandContext<'_>) {
+        crate::authoring::chain::expand(cx)
+    }
+
     fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
         let mesh = self.build(ctx).map_err(|e| prim_err(&self.spec.name, e))?;
         ctx.set(self.output, Arc::new(mesh));
@@ -249,6 +257,10 @@ pub fn copy_topology(src: &Mesh, dst: &mut Mesh) {
 /// normal method ([`Mesh::recompute_normals`]), so `outMesh`, `worldMesh`, the deformers
 /// downstream and `sinew bake` carry shading normals instead of leaving every viewer to
 /// shade the mesh faceted. They are computed when `inMesh` changes, not per frame.
+///
+/// In rig files a shape (this node or a poly primitive) takes the authoring field
+/// `deformers: ["bs", "skin", ..]`: the deformer chain its mesh goes through, in order
+/// (see [`crate::authoring::chain`]).
 pub struct MeshNode {
     spec: NodeSpec,
     in_mesh: Input<Arc<Mesh>>,
@@ -297,6 +309,14 @@ impl MeshNode {
 impl NodeType for MeshNode {
     fn spec(&self) -> &NodeSpec {
         &self.spec
+    }
+
+    fn authoring_fields(&self) -> &[sinew_core::AuthoringField] {
+        &crate::authoring::chain::FIELDS
+    }
+
+    fn expand(&self, cx: &mut sinew_core::ExpandContext<'_>) {
+        crate::authoring::chain::expand(cx)
     }
 
     fn compute(&self, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {

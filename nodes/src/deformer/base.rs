@@ -419,6 +419,15 @@ pub struct DeformerAttrs {
 impl DeformerAttrs {
     /// Declares the shared attributes on `s`.
     pub fn declare(s: &mut SpecBuilder) -> Self {
+        // Maya's short names (geometryFilter's `en ig og`, weightGeometryFilter's `wl`;
+        // see docs/rig-format.md, "Maya short names"). sinew's `weightList[i]` is Maya's
+        // `weightList[i].weights` flattened into one array.
+        s.maya_names(&[
+            ("inputGeometry", "ig"),
+            ("envelope", "en"),
+            ("weightList", "wl"),
+            ("outputGeometry", "og"),
+        ]);
         let input = s.input("inputGeometry", Arc::new(Mesh::default()));
         let envelope = s.input("envelope", 1.0);
         let weight_list = s.multi_input("weightList", Arc::new(Vec::<f64>::new()));
@@ -431,8 +440,15 @@ impl DeformerAttrs {
             .attr_doc(membership, "vertex indices deformed (empty = all)")
             .attr_doc(output, "the deformed mesh")
             .attr_doc(cache, "active vertices and weights (Membership)");
-        // Maya's short names (node reference, geometryFilter).
-        s.short_name(input, "ig").short_name(envelope, "en");
+        // Maya's short names, from Maya's node reference (Nodes/geometryFilter.html:
+        // inputGeometry `ig`, envelope `en`, outputGeometry `og`; Nodes/weightGeometryFilter.html:
+        // weightList `wl`). Maya's `input` (`ip`) compound and the `weights` (`w`) child of
+        // `weightList` have no counterpart here: sinew's `inputGeometry` is flat and
+        // `weightList[0]` holds the whole per-vertex array.
+        s.short_name(input, "ig")
+            .short_name(envelope, "en")
+            .short_name(output, "og")
+            .short_name(weight_list, "wl");
         s.keyable(weight_list, false).keyable(membership, false);
         s.affects(&[weight_list.id(), membership.id()], &[cache.id()]);
         DeformerAttrs {

@@ -233,6 +233,15 @@ impl Deformer for Ffd {
             .attr_doc(outside, "inside: only vertices in the lattice move; all; falloff")
             .attr_doc(falloff, "falloff distance outside the lattice (base lattice units)")
             .attr_doc(geom, "the deformed mesh's world matrix");
+        // Maya's short names (node reference, Nodes/ffd.html). outsideLattice and
+        // outsideFalloffDist have none here: the stored pages did not show theirs.
+        s.short_name(points, "dlp")
+            .short_name(deformed, "dlm")
+            .short_name(base, "blm")
+            .short_name(local, "lo")
+            .short_name(influence[0], "lis")
+            .short_name(influence[1], "lit")
+            .short_name(influence[2], "liu");
         s.keyable(points, false);
         let mut ids = vec![
             points.id(),

@@ -12,6 +12,16 @@
 //! Attributes (besides the shared ones): `originalGeometry` (mesh: the rest mesh),
 //! `smoothingIterations` (int, 10), `smoothingStep` (float, 0.5), `pinBorderVertices` (bool,
 //! true), `stretchConstraint`, `squashConstraint` (float, 1), `bindCache` (object output).
+//!
+//! `vertexTension` (float array output, one value per vertex) is the stretch/squash map of
+//! the incoming deformation, for colouring or driving correctives: the mean over the
+//! vertex's edges of `|p_v − p_u| / L_vu`, minus 1, measured on `inputGeometry` (before the
+//! relaxation) against the rest lengths `L_vu` of `originalGeometry`. 0 = at rest, > 0
+//! stretched (1 = edges twice as long), < 0 squashed (−0.5 = half as long); a vertex without
+//! edges, or whose edges all have zero rest length, reads 0. Maya's tension node has no such
+//! output (its node reference lists none): this is sinew's, in the spirit of the issue's
+//! "stretch/squash colouring" (3ds Max's Tension Deform and Blender's tension maps compute
+//! the same edge-length ratio).
 //! Not implemented: Maya's `bendStrength`, `shearStrength` (both 0 by default in Maya),
 //! `relative`, `inwardConstraint`, `outwardConstraint`.
 
@@ -105,6 +115,7 @@ thread_local! {
 
 /// The `tension` deformer.
 pub struct Tension {
+    input: Input<Arc<Mesh>>,
     original: Input<Arc<Mesh>>,
     iterations: Input<i64>,
     step: Input<f64>,
@@ -112,6 +123,55 @@ pub struct Tension {
     stretch: Input<f64>,
     squash: Input<f64>,
     bind: Output<ObjectRef>,
+    vertex_tension: Output<Arc<Vec<f64>>>,
+}
+
+impl Tension {
+    /// `vertexTension` (see the module docs), written in place (no allocation once sized).
+    fn compute_vertex_tension(&self, ty: &str, ctx: &mut ComputeContext<'_>) -> Result<(), ComputeError> {
+        let mesh = ctx.get(self.input);
+        let bind = ctx.get_output(self.bind);
+        let Some(b) = bind.downcast::<TensionBind>() else {
+            return Err(ComputeError::new(format!(
+                "{ty}: bindCache is missing; fix originalGeometry"
+            )));
+        };
+        let pos = &mesh.positions;
+        let n = b.smoother.inv_degree.len();
+        if n != pos.len() {
+            return Err(ComputeError::new(format!(
+                "{ty}: originalGeometry has {n} vertices but inputGeometry has {}; connect the rest mesh of this input",
+                pos.len()
+            )));
+        }
+        let Some(out) = ctx.data_mut(self.vertex_tension) else {
+            return Ok(());
+        };
+        out.clear();
+        out.extend(vertex_tension(b, pos));
+        Ok(())
+    }
+}
+
+/// The mean edge-length ratio minus 1 of every vertex of `pos` against the rest lengths of
+/// `b` (see the module docs).
+pub fn vertex_tension<'a>(b: &'a TensionBind, pos: &'a [Vec3]) -> impl Iterator<Item = f64> + 'a {
+    let adj = &b.smoother.adj;
+    (0..pos.len()).map(move |v| {
+        let (a, e) = (adj.offsets[v] as usize, adj.offsets[v + 1] as usize);
+        let (mut sum, mut count) = (0.0f64, 0u32);
+        for (&u, &l0) in adj.neighbors[a..e].iter().zip(&b.rest_length[a..e]) {
+            if l0 > 0.0 {
+                sum += f64::from((pos[v] - pos[u as usize]).length() / l0);
+                count += 1;
+            }
+        }
+        if count == 0 {
+            0.0
+        } else {
+            sum / f64::from(count) - 1.0
+        }
+    })
 }
 
 /// One frame of `tension`.
@@ -125,7 +185,7 @@ pub struct TensionFrame {
 impl Deformer for Tension {
     type Frame = TensionFrame;
 
-    fn declare(s: &mut SpecBuilder, _base: &DeformerAttrs) -> (Self, Vec<AttrId>) {
+    fn declare(s: &mut SpecBuilder, base: &DeformerAttrs) -> (Self, Vec<AttrId>) {
         let original = s.input("originalGeometry", Arc::new(Mesh::default()));
         let iterations = s.input("smoothingIterations", 10i64);
         let step = s.input("smoothingStep", 0.5);
@@ -141,8 +201,17 @@ impl Deformer for Tension {
             .attr_doc(squash, "how strongly squashed edges push out")
             .attr_doc(bind, "bind data (TensionBind)");
         s.affects(&[original.id(), pin.id()], &[bind.id()]);
+        let vertex_tension = s.output("vertexTension", Arc::new(Vec::<f64>::new()));
+        s.attr_doc(
+            vertex_tension,
+            "per vertex: mean edge length / rest length − 1 of inputGeometry (> 0 stretched, < 0 squashed)",
+        );
+        s.affects(&[base.input.id(), bind.id()], &[vertex_tension.id()]);
+        // Maya's short names (node reference, Nodes/tension.html: pinBorderVertices `pbv`).
+        s.short_name(pin, "pbv");
         let ids = vec![bind.id(), iterations.id(), step.id(), stretch.id(), squash.id()];
         let me = Tension {
+            input: base.input,
             original,
             iterations,
             step,
@@ -150,11 +219,16 @@ impl Deformer for Tension {
             stretch,
             squash,
             bind,
+            vertex_tension,
         };
         (me, ids)
     }
 
     fn compute_extra(&self, ty: &str, ctx: &mut ComputeContext<'_>) -> Result<bool, ComputeError> {
+        if ctx.wants(self.vertex_tension) {
+            self.compute_vertex_tension(ty, ctx)?;
+            return Ok(true);
+        }
         if !ctx.wants(self.bind) {
             return Ok(false);
         }

@@ -220,3 +220,60 @@ fn delta_mush_distance_weight_changes_the_smoothing_not_the_rest() {
     let err = g.get_path("d.outputGeometry").unwrap_err().to_string();
     assert!(err.contains("deltaMush.distanceWeight"), "{err}");
 }
+
+/// `d.vertexTension`, lazily and compiled (bit-identical).
+fn tension_map(g: &mut sinew_core::Graph) -> Vec<f64> {
+    use sinew_core::{CompileOptions, Instance, Program, Value};
+    let program = Arc::new(Program::compile(g, &CompileOptions::default()).unwrap());
+    let mut inst = Instance::new(program.clone());
+    inst.evaluate(g.time()).unwrap();
+    let lazy = g.get_path("d.vertexTension").unwrap();
+    assert!(lazy.same_bits(&inst.get(&program.handle("d.vertexTension").unwrap())));
+    match lazy {
+        Value::FloatArray(a) => a.to_vec(),
+        other => panic!("{other}"),
+    }
+}
+
+#[test]
+fn vertex_tension_is_the_mean_edge_ratio_minus_one() {
+    // One right triangle (0,0,0), (1,0,0), (0,1,0); rest edge lengths 1, 1, √2.
+    let tri = |ps: [Vec3; 3]| Mesh {
+        positions: ps.to_vec(),
+        triangles: vec![[0, 1, 2]],
+        ..Mesh::default()
+    };
+    let rest = tri([Vec3::ZERO, Vec3::X, Vec3::Y]);
+    // Stretched 2× along X: edge 01 becomes 2 (ratio 2), 02 stays 1 (ratio 1), 12 becomes √5
+    // (ratio √(5/2)). Vertex 0: (2 + 1)/2 − 1 = 0.5; vertex 1: (2 + √2.5)/2 − 1;
+    // vertex 2: (1 + √2.5)/2 − 1.
+    let mut g = rig("tension", tri([Vec3::ZERO, 2.0 * Vec3::X, Vec3::Y]));
+    set(&mut g, "d.originalGeometry", Arc::new(rest.clone()));
+    let r = 2.5f64.sqrt();
+    let want = [0.5, (2.0 + r) / 2.0 - 1.0, (1.0 + r) / 2.0 - 1.0];
+    let got = tension_map(&mut g);
+    assert_eq!(got.len(), 3);
+    for (a, b) in got.iter().zip(want) {
+        assert!((a - b).abs() < 1e-6, "{got:?} vs {want:?}");
+    }
+    // A uniform scale by s gives s − 1 everywhere: squashed to half is −0.5.
+    set(
+        &mut g,
+        "body.inMesh",
+        Arc::new(tri([Vec3::ZERO, 0.5 * Vec3::X, 0.5 * Vec3::Y])),
+    );
+    assert!(tension_map(&mut g).iter().all(|t| (t + 0.5).abs() < 1e-7));
+    // At rest (and under a rigid motion) the map is 0 (to rounding for the rotation).
+    set(&mut g, "body.inMesh", Arc::new(rest.clone()));
+    assert_eq!(tension_map(&mut g), vec![0.0; 3]);
+    let q = Quat::from_rotation_z(0.7);
+    set(
+        &mut g,
+        "body.inMesh",
+        Arc::new(with_positions(&rest, |_, p| q * p + Vec3::ONE)),
+    );
+    assert!(tension_map(&mut g).iter().all(|t| t.abs() < 1e-6));
+    // The map does not depend on the envelope or the relaxation: it reads the input.
+    set(&mut g, "d.envelope", 0.0);
+    assert!(tension_map(&mut g).iter().all(|t| t.abs() < 1e-6));
+}

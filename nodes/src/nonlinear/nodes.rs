@@ -286,6 +286,8 @@ impl Deformer for NonLinear {
     type Frame = NonLinearFrame;
 
     fn declare(s: &mut SpecBuilder, _base: &DeformerAttrs) -> (Self, Vec<AttrId>) {
+        // Maya's nonLinear short names (node reference, *nonLinear*).
+        s.maya_names(&[("deformerData", "dd"), ("matrix", "ma")]);
         let data = s.input("deformerData", ObjectRef::default());
         let matrix = s.input("matrix", DMat4::IDENTITY);
         let geom = s.input("geomMatrix", DMat4::IDENTITY);
@@ -293,6 +295,8 @@ impl Deformer for NonLinear {
             .attr_doc(matrix, "the handle's world matrix (the deformer axis is its Y axis)")
             .attr_doc(geom, "the deformed mesh's world matrix");
         s.keyable(data, false);
+        // Maya's short names (node reference, Nodes/nonLinear.html).
+        s.short_name(data, "dd").short_name(matrix, "ma");
         (
             NonLinear { data, matrix, geom },
             vec![data.id(), matrix.id(), geom.id()],

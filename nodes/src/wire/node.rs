@@ -4,15 +4,29 @@
 //! parameter of the closest point of `R`, `d = |p − R(u)|`, and the influence is
 //! `f = (1 − (d / dropoffDistance)²)²` inside the dropoff distance (0 beyond). Then, about
 //! `R(u)`: scale by `1 + (scale − 1)·f`, rotate by `rotation·f` of the rotation taking `R`'s
-//! tangent to `W`'s at `u`, and translate by `f·(W(u) − R(u))`. Several wires combine as
-//! Singh & Fiume's weighted sum of their displacements `Δᵢ`: `Σ Δᵢ|Δᵢ| / Σ |Δᵢ|`.
+//! tangent to `W`'s at `u`, and translate by `f·(W(u) − R(u))`.
+//!
+//! Several wires combine as Singh & Fiume's weighted sum of their displacements `Δᵢ` (over
+//! the wires whose dropoff reaches the vertex and that move it), with Maya's three filter
+//! attributes (the Maya node reference describes them as "convolution filter value",
+//! "convolution filter tension" and "local filter value"; Maya does not publish the
+//! formulas, so these are sinew's, reducing to the paper's sum at Maya's defaults):
+//!
+//! - the convolution `C = Σ wᵢΔᵢ / Σ wᵢ` with `wᵢ = |Δᵢ|^tension · (1 − localInfluence +
+//!   localInfluence · fᵢ)`: `tension` 1 (the default) is the paper's `Σ Δᵢ|Δᵢ| / Σ |Δᵢ|`, 0 a
+//!   plain average, larger values let the largest displacement win; `localInfluence` 1
+//!   weights each wire by its own falloff `fᵢ`, so a vertex follows the wire it is closest
+//!   to (0, the default, ignores the falloff);
+//! - `crossingEffect` blends the convolution with the plain sum: `Δ = (1 − c)·C + c·Σ Δᵢ`
+//!   (0, the default, smooth where wires cross; 1 additive).
 //!
 //! Attributes (besides the shared ones; Maya's names): `deformedWire[i]`, `baseWire[i]`
 //! (curves, in the mesh's space), `dropoffDistance[i]` (float, 1), `scale[i]` (float, 1),
-//! `rotation` (float, 1), `wireCache` (object output: the sampled base wires). Curves are
-//! sampled [`super::sample::SAMPLES_PER_SPAN`] times per span and the closest point is found on those
-//! polylines. Not implemented: Maya's `crossingEffect`, `localInfluence`, `tension`, wire
-//! locators (`wireLocatorEnvelope`...).
+//! `rotation` (float, 1), `crossingEffect` (float, 0), `tension` (float, 1, −10 to 10),
+//! `localInfluence` (float, 0), `wireCache` (object output: the sampled base wires). Curves
+//! are sampled [`super::sample::SAMPLES_PER_SPAN`] times per span and the closest point is
+//! found on those polylines. Not implemented: wire locators (`wireLocatorEnvelope`...),
+//! `freezeGeometry`, `holder`.
 
 use std::cell::RefCell;
 use std::sync::Arc;
@@ -64,6 +78,9 @@ pub struct Wire {
     dropoff: MultiInput<f64>,
     scale: MultiInput<f64>,
     rotation: Input<f64>,
+    crossing: Input<f64>,
+    tension: Input<f64>,
+    local: Input<f64>,
     cache: Output<ObjectRef>,
 }
 
@@ -75,6 +92,57 @@ pub struct WireFrame {
     pub deformed: [Option<Arc<Curve>>; MAX_WIRES],
     /// `rotation`.
     pub rotation: f32,
+    /// How several wires combine.
+    pub filter: Filter,
+}
+
+/// Maya's wire filter attributes (see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Filter {
+    /// `crossingEffect`: 0 = convolution, 1 = sum.
+    pub crossing: f32,
+    /// `tension`: the exponent of `|Δᵢ|` in the convolution weights.
+    pub tension: f32,
+    /// `localInfluence`: 0 = weights ignore the falloff, 1 = weights scaled by it.
+    pub local: f32,
+}
+
+impl Filter {
+    /// Maya's defaults: the paper's `Σ Δᵢ|Δᵢ| / Σ |Δᵢ|`.
+    pub const DEFAULT: Filter = Filter {
+        crossing: 0.0,
+        tension: 1.0,
+        local: 0.0,
+    };
+
+    /// Combines the displacements `(Δᵢ, fᵢ)` of the wires that reach a vertex.
+    #[inline]
+    pub fn combine(&self, parts: impl Iterator<Item = (Vec3, f32)>) -> Vec3 {
+        let (mut conv, mut norm, mut sum) = (Vec3::ZERO, 0.0f32, Vec3::ZERO);
+        for (d, f) in parts {
+            let l = d.length();
+            if l == 0.0 {
+                continue;
+            }
+            let mut w = if self.tension == 1.0 { l } else { l.powf(self.tension) };
+            if self.local != 0.0 {
+                w *= 1.0 - self.local + self.local * f;
+            }
+            conv += d * w;
+            norm += w;
+            sum += d;
+        }
+        let conv = if norm > 0.0 && norm.is_finite() {
+            conv / norm
+        } else {
+            Vec3::ZERO
+        };
+        if self.crossing == 0.0 {
+            conv
+        } else {
+            conv * (1.0 - self.crossing) + sum * self.crossing
+        }
+    }
 }
 
 /// Closest point of polyline `s` to `p`: (segment, fraction along it, squared distance).
@@ -97,16 +165,16 @@ fn closest(s: &[Vec3], p: Vec3) -> (usize, f32, f32) {
     best
 }
 
-/// The displacement of `p` by one wire (see the module docs).
+/// The displacement of `p` by one wire and the wire's falloff there (see the module docs).
 #[inline]
-fn displace(b: &BaseWire, w: &[Vec3], rotation: f32, p: Vec3) -> Vec3 {
+fn displace(b: &BaseWire, w: &[Vec3], rotation: f32, p: Vec3) -> (Vec3, f32) {
     if p.cmplt(b.bounds.0).any() || p.cmpgt(b.bounds.1).any() {
-        return Vec3::ZERO;
+        return (Vec3::ZERO, 0.0);
     }
     let (k, t, d2) = closest(&b.samples, p);
     let x2 = d2 / (b.dropoff * b.dropoff);
     if x2 >= 1.0 {
-        return Vec3::ZERO;
+        return (Vec3::ZERO, 0.0);
     }
     let f = (1.0 - x2) * (1.0 - x2);
     let r = b.samples[k].lerp(b.samples[k + 1], t);
@@ -121,7 +189,7 @@ fn displace(b: &BaseWire, w: &[Vec3], rotation: f32, p: Vec3) -> Vec3 {
     } else {
         scaled
     };
-    r + turned + (wp - r) * f - p
+    (r + turned + (wp - r) * f - p, f)
 }
 
 impl Deformer for Wire {
@@ -133,6 +201,21 @@ impl Deformer for Wire {
         let dropoff = s.multi_input("dropoffDistance", 1.0);
         let scale = s.multi_input("scale", 1.0);
         let rotation = s.input("rotation", 1.0);
+        let crossing = s.input("crossingEffect", 0.0);
+        let tension = s.input("tension", 1.0);
+        let local = s.input("localInfluence", 0.0);
+        s.attr_doc(
+            crossing,
+            "how crossing wires add up: 0 = smooth (convolution), 1 = additive",
+        )
+        .attr_doc(
+            tension,
+            "exponent of each wire's displacement in the convolution weights (−10 to 10)",
+        )
+        .attr_doc(
+            local,
+            "0 = wires weigh by displacement only, 1 = also by their own falloff",
+        );
         let cache = s.output("wireCache", ObjectRef::default());
         s.attr_doc(deformed, "wire curve i as it is now")
             .attr_doc(base, "wire curve i at bind (same degree and point count)")
@@ -142,7 +225,21 @@ impl Deformer for Wire {
             .attr_doc(cache, "sampled base wires (WireCache)");
         s.keyable(base, false);
         s.affects(&[base.id(), dropoff.id(), scale.id()], &[cache.id()]);
-        let ids = vec![cache.id(), deformed.id(), rotation.id()];
+        // Maya's short names (node reference, Nodes/wire.html: rotation `ro`, crossingEffect
+        // `ce`, tension `te`, localInfluence `li`). The stored pages did not show those of
+        // deformedWire, baseWire, dropoffDistance and scale.
+        s.short_name(rotation, "ro")
+            .short_name(crossing, "ce")
+            .short_name(tension, "te")
+            .short_name(local, "li");
+        let ids = vec![
+            cache.id(),
+            deformed.id(),
+            rotation.id(),
+            crossing.id(),
+            tension.id(),
+            local.id(),
+        ];
         (
             Wire {
                 deformed,
@@ -150,6 +247,9 @@ impl Deformer for Wire {
                 dropoff,
                 scale,
                 rotation,
+                crossing,
+                tension,
+                local,
                 cache,
             },
             ids,
@@ -220,6 +320,11 @@ impl Deformer for Wire {
             cache,
             deformed,
             rotation: finite(ty, "rotation", ctx.get(self.rotation))? as f32,
+            filter: Filter {
+                crossing: finite(ty, "crossingEffect", ctx.get(self.crossing))? as f32,
+                tension: finite(ty, "tension", ctx.get(self.tension))? as f32,
+                local: finite(ty, "localInfluence", ctx.get(self.local))? as f32,
+            },
         })
     }
 
@@ -230,7 +335,7 @@ impl Deformer for Wire {
         if cache.wires.is_empty() {
             return Ok(());
         }
-        let rot = f.rotation;
+        let (rot, filter) = (f.rotation, f.filter);
         SCRATCH.with(|s| {
             let mut s = s.borrow_mut();
             let buffers = &mut s.deformed;
@@ -243,17 +348,12 @@ impl Deformer for Wire {
             }
             let buffers = &buffers[..n];
             deform_points(&job.input.positions, job.out, job.membership, job.envelope, |_, p| {
-                let (mut sum, mut norm) = (Vec3::ZERO, 0.0);
-                for (b, w) in cache.wires.iter().zip(buffers) {
-                    let d = displace(b, w, rot, p);
-                    let l = d.length();
-                    sum += d * l;
-                    norm += l;
-                }
-                if norm > 0.0 {
-                    p + sum / norm
-                } else {
+                let parts = cache.wires.iter().zip(buffers).map(|(b, w)| displace(b, w, rot, p));
+                let d = filter.combine(parts);
+                if d == Vec3::ZERO {
                     p
+                } else {
+                    p + d
                 }
             });
         });

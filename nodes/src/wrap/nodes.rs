@@ -101,6 +101,13 @@ impl<const PROXIMITY: bool> Deformer for WrapDeformer<PROXIMITY> {
             )
             .attr_doc(cache, "bind data (WrapCache)");
         s.keyable(base, false);
+        if !PROXIMITY {
+            // Maya's short names (node reference, Nodes/wrap.html); Maya's proximityWrap
+            // names its drivers differently, so it keeps the long names.
+            s.short_name(base, "bp")
+                .short_name(driver, "dp")
+                .short_name(max_distance, "md");
+        }
         let mut bind_inputs = vec![original.id(), base.id(), max_distance.id()];
         let mut ids = vec![cache.id(), driver.id()];
         let (falloff_scale, smooth) = if PROXIMITY {

@@ -21,6 +21,7 @@ use glam::{DVec3, Vec3};
 use sinew_core::Value;
 
 use super::geometry::static_geometry;
+use super::meshdata::VertexMap;
 use super::plugs::long_segs;
 use super::{Importer, Status};
 use crate::maya::plug::{Index, Seg};
@@ -70,7 +71,16 @@ fn expand(list: &[Component], n: usize) -> Vec<u32> {
 }
 
 /// Maps blendShape `d` onto `geom`; `base` is its input's points in sinew units.
-pub fn map_blend_shape(imp: &mut Importer, d: usize, geom: &str, base: &[Vec3]) -> Result<String, MayaError> {
+///
+/// `base` holds Maya's vertices only; the deltas and maps are extended to the seam copies
+/// of `map`.
+pub fn map_blend_shape(
+    imp: &mut Importer,
+    d: usize,
+    geom: &str,
+    base: &[Vec3],
+    map: &VertexMap,
+) -> Result<String, MayaError> {
     let at = imp.node(d).at;
     let raw = imp.names.sinew_name(imp.scene, d);
     let name = imp.unique(&raw);
@@ -153,9 +163,10 @@ pub fn map_blend_shape(imp: &mut Importer, d: usize, geom: &str, base: &[Vec3]) 
         t
     };
     for ((t, x), item) in items {
-        let Some((idx, del)) = deltas(imp, &name, t, &item, base)? else {
+        let Some((mut idx, mut del)) = deltas(imp, &name, t, &item, base)? else {
             continue;
         };
+        map.extend_sparse(&mut idx, &mut del);
         let indices = Value::IntArray(Arc::new(idx.into_iter().map(i64::from).collect()));
         let deltas = Value::Vec3Array(Arc::new(del));
         if x == 6000 {
@@ -188,6 +199,7 @@ pub fn map_blend_shape(imp: &mut Importer, d: usize, geom: &str, base: &[Vec3]) 
                 *slot *= w;
             }
         }
+        map.extend_dense(&mut m);
         imp.acc
             .set_elem(&name, "targetWeightMap", t, Value::FloatArray(Arc::new(m)));
     }

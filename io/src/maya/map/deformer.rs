@@ -21,6 +21,7 @@ use std::sync::Arc;
 use sinew_core::Value;
 
 use super::deform::{membership, Chain};
+use super::meshdata::VertexMap;
 use super::plugs::{apply_set_attrs, long_segs};
 use super::{Importer, Status};
 use crate::maya::plug::Index;
@@ -87,7 +88,7 @@ fn fold_cluster_handle(imp: &mut Importer, c: usize, name: &str) {
 }
 
 /// Where a deformer sits in its chain: its input, the chain's base mesh, the shape's
-/// transform while the chain is in object space, and the vertex count.
+/// transform while the chain is in object space, and the vertex map.
 pub struct Place<'c> {
     /// The input geometry plug.
     pub geom: &'c str,
@@ -97,8 +98,8 @@ pub struct Place<'c> {
     pub world: Option<&'c str>,
     /// The chain.
     pub chain: &'c Chain,
-    /// Vertices of the mesh.
-    pub vertex_count: usize,
+    /// Maya's vertices and the seam copies of the mesh.
+    pub map: &'c VertexMap,
 }
 
 /// Maps deformer `d` at `place`; returns its output plug.
@@ -108,20 +109,24 @@ pub fn map_deformer(imp: &mut Importer, d: usize, place: &Place<'_>) -> Result<S
         base,
         world,
         chain,
-        vertex_count,
+        map,
     } = *place;
     let ty = imp.node(d).ty.clone();
     let at = imp.node(d).at;
     let raw = imp.names.sinew_name(imp.scene, d);
     let name = imp.unique(&raw);
-    let w = weights(imp, d, vertex_count)?;
+    let w = weights(imp, d, map.maya)?.map(|mut w| {
+        map.extend_dense(&mut w);
+        w
+    });
     imp.add(&name, &ty, None, w.is_some());
     imp.set_status(d, Status::Mapped(name.clone()));
     imp.connect(geom, format!("{name}.inputGeometry"), at);
     if let Some(w) = w {
         imp.acc.set_elem(&name, "weightList", 0, Value::FloatArray(Arc::new(w)));
     }
-    if let Some(m) = membership(imp, chain, d) {
+    if let Some(mut m) = membership(imp, chain, d) {
+        map.extend_list(&mut m);
         imp.acc.set(&name, "membership", Value::IntArray(Arc::new(m)));
     }
     let has = |a: &str| imp.registry.spec(&ty).is_some_and(|s| s.find(a).is_some());

@@ -13,7 +13,7 @@
 
 use std::sync::Arc;
 
-use sinew_core::Value;
+use sinew_core::{AttrSpec, Value};
 
 use super::deform::{walk_chain, Base, Chain};
 use super::meshdata::{add_offsets, faces_from_edges, orient_to_axis, poly_cube, poly_plane, PolyMesh};
@@ -23,25 +23,16 @@ use crate::maya::plug::Index;
 use crate::maya::scene::SetAttr;
 use crate::maya::MayaError;
 
+/// The custom attribute on a mesh split along UV seams holding each vertex's Maya index.
+pub const MAYA_VERTEX: &str = "mayaVertex";
+
 /// Maps every visible mesh with its chain (intermediate meshes come along as chain bases).
 pub fn map_geometry(imp: &mut Importer) -> Result<(), MayaError> {
-    let mut seams = Vec::new();
     for i in 0..imp.scene.nodes.len() {
         if imp.node(i).ty != "mesh" || imp.handled(i) || imp.number(i, "intermediateObject") == Some(1.0) {
             continue;
         }
-        if map_shape(imp, i)? {
-            seams.push(imp.node(i).name.clone());
-        }
-    }
-    if !seams.is_empty() {
-        let at = imp.scene.nodes.iter().find(|n| n.name == seams[0]).map_or(0, |n| n.at);
-        let msg = format!(
-            "UVs not imported for {} mesh(es) with UV seams ({}): a sinew mesh has one UV per vertex, and Maya's vertex order is kept",
-            seams.len(),
-            seams.join(", ")
-        );
-        imp.warn(at, msg);
+        map_shape(imp, i)?;
     }
     for i in 0..imp.scene.nodes.len() {
         if imp.node(i).ty == "mesh" && !imp.handled(i) {
@@ -51,8 +42,12 @@ pub fn map_geometry(imp: &mut Importer) -> Result<(), MayaError> {
     Ok(())
 }
 
-/// Maps one visible mesh and its chain; `true` when its UVs were dropped.
-fn map_shape(imp: &mut Importer, shape: usize) -> Result<bool, MayaError> {
+/// Deformers that smooth over the mesh's edges: on a mesh split along UV seams they see
+/// the seam as an open border.
+const TOPOLOGICAL: [&str; 4] = ["deltaMush", "tension", "wrap", "proximityWrap"];
+
+/// Maps one visible mesh and its chain.
+fn map_shape(imp: &mut Importer, shape: usize) -> Result<(), MayaError> {
     let chain = walk_chain(imp, shape);
     let owner = imp.parent(shape).and_then(|p| imp.sinew(p)).map(str::to_string);
     let at = imp.node(shape).at;
@@ -67,7 +62,7 @@ fn map_shape(imp: &mut Importer, shape: usize) -> Result<bool, MayaError> {
             );
             imp.warn(at, msg);
             imp.set_status(shape, Status::Skipped(why.clone()));
-            return Ok(false);
+            return Ok(());
         }
         _ if chain.deformers.is_empty() => None,
         Base::Own => None,
@@ -81,11 +76,11 @@ fn map_shape(imp: &mut Importer, shape: usize) -> Result<bool, MayaError> {
         );
         imp.warn(at, msg);
         imp.set_status(shape, Status::Skipped("no geometry".into()));
-        return Ok(false);
+        return Ok(());
     };
     super::deform::fold_tweaks(imp, &chain, &mut poly);
     let units = imp.units.clone();
-    let (mesh, note) = poly
+    let converted = poly
         .to_mesh(|p| {
             glam::DVec3::new(
                 units.internal_length(p.x),
@@ -100,7 +95,7 @@ fn map_shape(imp: &mut Importer, shape: usize) -> Result<bool, MayaError> {
                 "the mesh data in the file is inconsistent",
             )
         })?;
-    let uv_dropped = note.is_some();
+    let (mesh, map) = (converted.mesh, converted.map);
     if poly.holes > 0 {
         let msg = format!(
             "{}: {} faces have holes; the holes are filled",
@@ -109,13 +104,44 @@ fn map_shape(imp: &mut Importer, shape: usize) -> Result<bool, MayaError> {
         );
         imp.warn(at, msg);
     }
-    let vertex_count = mesh.positions.len();
-    let base_points: Vec<glam::Vec3> = mesh.positions.clone();
+    if converted.corners_without_uv > 0 {
+        let msg = format!(
+            "{}: {} face corners have no UV in the first UV set; their vertices take the UV of another face, or (0, 0)",
+            imp.node(shape).name,
+            converted.corners_without_uv
+        );
+        imp.warn(at, msg);
+    }
+    if !map.copies.is_empty() {
+        for &d in &chain.deformers {
+            if TOPOLOGICAL.contains(&imp.node(d).ty.as_str()) {
+                let msg = format!(
+                    "{}: {} is split along its UV seams ({} vertices added), so {} ({}) smooths across a seam as across an open border",
+                    imp.node(shape).name,
+                    imp.node(data_maya).name,
+                    map.copies.len(),
+                    imp.node(d).name,
+                    imp.node(d).ty
+                );
+                imp.warn(imp.node(d).at, msg);
+            }
+        }
+    }
+    // Maya's points in sinew units (what blendShape targets are measured against).
+    let base_points: Vec<glam::Vec3> = mesh.positions[..map.maya].to_vec();
     // The data node.
     let raw = imp.names.sinew_name(imp.scene, data_maya);
     let data_name = imp.unique(&raw);
-    imp.add(&data_name, "mesh", None, true);
+    let data_index = imp.add(&data_name, "mesh", None, true);
     imp.acc.set(&data_name, "inMesh", Value::Mesh(Arc::new(mesh)));
+    if !map.copies.is_empty() {
+        let spec = AttrSpec::custom(MAYA_VERTEX, Value::FloatArray(Arc::new(Vec::new()))).with_doc(
+            "Maya's vertex index of each vertex, as a float array (the mesh is split along its UV seams; vertices past Maya's count copy the one named here)",
+        );
+        imp.rig.add_custom(data_index, spec);
+        imp.acc
+            .set(&data_name, MAYA_VERTEX, Value::FloatArray(Arc::new(map.maya_index())));
+    }
     if let Some(o) = imp.parent(data_maya).and_then(|p| imp.sinew(p)).map(str::to_string) {
         if data_maya == shape || chain.deformers.is_empty() {
             imp.connect(format!("{o}.worldMatrix"), format!("{data_name}.worldMatrix"), at);
@@ -124,7 +150,7 @@ fn map_shape(imp: &mut Importer, shape: usize) -> Result<bool, MayaError> {
     imp.set_status(data_maya, Status::Mapped(data_name.clone()));
     if data_maya == shape {
         fold_chain(imp, &chain);
-        return Ok(uv_dropped);
+        return Ok(());
     }
     let base_plug = format!("{data_name}.outMesh");
     let mut geom = base_plug.clone();
@@ -133,10 +159,10 @@ fn map_shape(imp: &mut Importer, shape: usize) -> Result<bool, MayaError> {
         let ty = imp.node(d).ty.clone();
         geom = match ty.as_str() {
             "tweak" => geom,
-            "blendShape" => blend::map_blend_shape(imp, d, &geom, &base_points)?,
+            "blendShape" => blend::map_blend_shape(imp, d, &geom, &base_points, &map)?,
             "skinCluster" => {
                 skinned = true;
-                skin::map_skin_cluster(imp, d, &geom, vertex_count)?
+                skin::map_skin_cluster(imp, d, &geom, &map)?
             }
             _ if super::deformer::supported(imp, &ty) => {
                 let place = super::deformer::Place {
@@ -144,7 +170,7 @@ fn map_shape(imp: &mut Importer, shape: usize) -> Result<bool, MayaError> {
                     base: &base_plug,
                     world: if skinned { None } else { owner.as_deref() },
                     chain: &chain,
-                    vertex_count,
+                    map: &map,
                 };
                 super::deformer::map_deformer(imp, d, &place)?
             }
@@ -186,7 +212,7 @@ fn map_shape(imp: &mut Importer, shape: usize) -> Result<bool, MayaError> {
     }
     imp.set_status(shape, Status::Mapped(name));
     fold_chain(imp, &chain);
-    Ok(uv_dropped)
+    Ok(())
 }
 
 /// Marks the chain's plumbing as folded and its connections as consumed.

@@ -54,13 +54,99 @@ pub fn faces_from_edges(edges: &[(u32, u32)], face_edges: &[Vec<i64>]) -> Result
         .collect()
 }
 
+/// How the sinew vertices of an imported mesh relate to Maya's: vertices `0..maya` are
+/// Maya's `.vt[0..maya]` in file order; each vertex after them is a copy of Maya vertex
+/// `copies[k]` made where the vertex sits on a UV seam (its face corners carry different
+/// UVs), so that every face corner keeps its own UV on a mesh with one UV per vertex.
+///
+/// Per-vertex data the file indexes by Maya's vertex (skin weights, blendShape deltas and
+/// maps, deformer weights and memberships) is extended to the copies with the values of
+/// the vertex they copy, so a copy deforms exactly as its original does.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct VertexMap {
+    /// Maya's vertex count.
+    pub maya: usize,
+    /// The Maya vertex each appended copy duplicates.
+    pub copies: Vec<u32>,
+}
+
+impl VertexMap {
+    /// The Maya vertex of every sinew vertex (as floats: a custom attribute's array type;
+    /// exact below 2^53).
+    pub fn maya_index(&self) -> Vec<f64> {
+        (0..self.maya as u32)
+            .chain(self.copies.iter().copied())
+            .map(f64::from)
+            .collect()
+    }
+
+    /// Extends a dense per-Maya-vertex list (length `maya`) with the copies' values; a list
+    /// of another length is left alone.
+    pub fn extend_dense<T: Clone>(&self, v: &mut Vec<T>) {
+        if v.len() == self.maya {
+            for &c in &self.copies {
+                v.push(v[c as usize].clone());
+            }
+        }
+    }
+
+    /// Extends sparse per-vertex data (`idx[i]` carries `vals[i]`) with an entry per copy
+    /// of a listed vertex.
+    pub fn extend_sparse<T: Clone>(&self, idx: &mut Vec<u32>, vals: &mut Vec<T>) {
+        if self.copies.is_empty() {
+            return;
+        }
+        let mut at = vec![None; self.maya];
+        for (i, &v) in idx.iter().enumerate() {
+            if let Some(slot) = at.get_mut(v as usize) {
+                *slot = Some(i);
+            }
+        }
+        for (k, &c) in self.copies.iter().enumerate() {
+            if let Some(i) = at[c as usize] {
+                idx.push((self.maya + k) as u32);
+                vals.push(vals[i].clone());
+            }
+        }
+    }
+
+    /// Extends a sorted vertex list (a membership) with the copies of listed vertices.
+    pub fn extend_list(&self, list: &mut Vec<i64>) {
+        let listed: std::collections::HashSet<i64> = list.iter().copied().collect();
+        for (k, &c) in self.copies.iter().enumerate() {
+            if listed.contains(&i64::from(c)) {
+                list.push((self.maya + k) as i64);
+            }
+        }
+    }
+}
+
+/// The result of [`PolyMesh::to_mesh`].
+#[derive(Clone, Debug)]
+pub struct Converted {
+    /// The triangle mesh (UVs per vertex, seam vertices split).
+    pub mesh: Mesh,
+    /// Maya's vertex of each sinew vertex.
+    pub map: VertexMap,
+    /// Face corners without a UV in the first set (they take their vertex's UV from
+    /// another face, or `(0, 0)`), when the mesh has UVs at all.
+    pub corners_without_uv: usize,
+}
+
 impl PolyMesh {
-    /// Triangulates (fans from each face's first vertex, Maya's winding) into a sinew mesh
-    /// with recomputed smooth normals; `to_sinew` converts an internal-unit point. Returns the
-    /// mesh and a note when UVs had to be dropped.
-    pub fn to_mesh(&self, to_sinew: impl Fn(glam::DVec3) -> glam::DVec3) -> Result<(Mesh, Option<String>), MeshError> {
+    /// Triangulates (fans from each face's first vertex, Maya's winding) into a sinew mesh;
+    /// `to_sinew` converts an internal-unit point.
+    ///
+    /// UVs: Maya stores them per face corner (`mu` in `polyFaces`), sinew per vertex. A
+    /// vertex whose corners all carry the same UV value keeps its index; each further
+    /// distinct UV value at a vertex (a UV seam) becomes a copy of the vertex appended
+    /// after Maya's vertices (see [`VertexMap`]), and the corners with that UV use the
+    /// copy, so every corner's UV is exactly the file's. Normals are computed on Maya's
+    /// welded topology (angle and area weighted) and shared by the copies, so a UV seam is
+    /// not a shading seam.
+    pub fn to_mesh(&self, to_sinew: impl Fn(glam::DVec3) -> glam::DVec3) -> Result<Converted, MeshError> {
         let n = self.points.len();
-        let mut m = Mesh {
+        let mut welded = Mesh {
             positions: self.points.iter().map(|&p| to_sinew(p).as_vec3()).collect(),
             ..Mesh::default()
         };
@@ -69,47 +155,78 @@ impl PolyMesh {
                 return Err(format!("face {f} uses vertex {bad} but the mesh has {n} points"));
             }
             for k in 1..face.len().saturating_sub(1) {
-                m.triangles.push([face[0], face[k], face[k + 1]]);
+                welded.triangles.push([face[0], face[k], face[k + 1]]);
             }
         }
-        let mut note = None;
-        if !self.uv_points.is_empty() {
-            let mut uv: Vec<Option<u32>> = vec![None; n];
-            let mut seams = 0usize;
-            let mut missing = false;
-            for (face, uvs) in self.faces.iter().zip(&self.face_uvs) {
-                if uvs.len() != face.len() {
-                    missing = true;
-                    continue;
-                }
-                for (&v, &u) in face.iter().zip(uvs) {
-                    match uv[v as usize] {
-                        None => uv[v as usize] = Some(u),
-                        Some(old) if self.uv_points.get(old as usize) != self.uv_points.get(u as usize) => seams += 1,
-                        Some(_) => {}
+        welded.recompute_normals();
+        let mut map = VertexMap {
+            maya: n,
+            copies: Vec::new(),
+        };
+        if self.uv_points.is_empty() {
+            return Ok(Converted {
+                mesh: welded,
+                map,
+                corners_without_uv: 0,
+            });
+        }
+        // The sinew vertex of each face corner, and the UV of each sinew vertex.
+        let mut uvs: Vec<Option<Vec2>> = vec![None; n];
+        // Per Maya vertex, its copies' (UV, sinew index).
+        let mut split: Vec<Vec<(Vec2, u32)>> = vec![Vec::new(); n];
+        let mut without = 0usize;
+        let mut triangles = Vec::with_capacity(welded.triangles.len());
+        for (f, face) in self.faces.iter().enumerate() {
+            let corner_uvs = self.face_uvs.get(f).filter(|u| u.len() == face.len());
+            let mut corners = Vec::with_capacity(face.len());
+            for (c, &v) in face.iter().enumerate() {
+                let uv = match corner_uvs {
+                    Some(u) => Some(self.uv_points.get(u[c] as usize).copied().ok_or_else(|| {
+                        format!(
+                            "face {f} uses UV {} but the first UV set has {}",
+                            u[c],
+                            self.uv_points.len()
+                        )
+                    })?),
+                    None => None,
+                };
+                let s = match (uv, uvs[v as usize]) {
+                    (None, _) => {
+                        without += 1;
+                        v
                     }
-                }
-            }
-            let all: Option<Vec<Vec2>> = uv
-                .iter()
-                .map(|u| u.and_then(|u| self.uv_points.get(u as usize).copied()))
-                .collect();
-            match all {
-                Some(all) if seams == 0 && !missing => m.uvs = all,
-                _ => {
-                    note = Some(format!(
-                        "UVs not imported: {} (a sinew mesh has one UV per vertex and keeps Maya's vertex order)",
-                        if seams > 0 {
-                            format!("{seams} face corners sit on UV seams")
-                        } else {
-                            "some faces or vertices have no UV".to_string()
+                    (Some(uv), None) => {
+                        uvs[v as usize] = Some(uv);
+                        v
+                    }
+                    (Some(uv), Some(old)) if old == uv => v,
+                    (Some(uv), Some(_)) => match split[v as usize].iter().find(|(u, _)| *u == uv) {
+                        Some(&(_, s)) => s,
+                        None => {
+                            let s = (n + map.copies.len()) as u32;
+                            map.copies.push(v);
+                            split[v as usize].push((uv, s));
+                            uvs.push(Some(uv));
+                            s
                         }
-                    ))
-                }
+                    },
+                };
+                corners.push(s);
+            }
+            for k in 1..corners.len().saturating_sub(1) {
+                triangles.push([corners[0], corners[k], corners[k + 1]]);
             }
         }
-        m.recompute_normals();
-        Ok((m, note))
+        let mut mesh = welded;
+        mesh.triangles = triangles;
+        map.extend_dense(&mut mesh.positions);
+        map.extend_dense(&mut mesh.normals);
+        mesh.uvs = uvs.into_iter().map(|u| u.unwrap_or(Vec2::ZERO)).collect();
+        Ok(Converted {
+            mesh,
+            map,
+            corners_without_uv: without,
+        })
     }
 }
 
@@ -258,16 +375,18 @@ mod tests {
     /// counter-clockwise winding survives triangulation).
     #[test]
     fn triangles_face_outwards() {
-        let (m, note) = poly_cube(2.0, 1.0, 1.0).to_mesh(|p| p).unwrap();
-        assert!(note.is_some(), "the cube's UVs have seams");
-        assert_eq!((m.positions.len(), m.triangles.len()), (8, 12));
+        let c = poly_cube(2.0, 1.0, 1.0).to_mesh(|p| p).unwrap();
+        let m = c.mesh;
+        // 14 UVs on 8 points: the seams add 6 copies.
+        assert_eq!((m.positions.len(), m.triangles.len(), c.map.copies.len()), (14, 12, 6));
         for t in &m.triangles {
             let [a, b, c] = t.map(|i| m.positions[i as usize]);
             let n = (b - a).cross(c - a);
             assert!(n.dot((a + b + c) / 3.0) > 0.0);
         }
-        let (p, note) = poly_plane(2.0, 4.0, 1, 2).to_mesh(|p| p).unwrap();
-        assert!(note.is_none());
+        let c = poly_plane(2.0, 4.0, 1, 2).to_mesh(|p| p).unwrap();
+        assert!(c.map.copies.is_empty(), "a plane has no UV seams");
+        let p = c.mesh;
         assert_eq!(p.positions[0], Vec3::new(-1.0, 0.0, 2.0));
         assert_eq!(p.positions[5], Vec3::new(1.0, 0.0, -2.0));
         for t in &p.triangles {

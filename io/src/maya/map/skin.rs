@@ -29,13 +29,15 @@ use std::sync::Arc;
 use glam::DMat4;
 use sinew_core::{Value, Weights};
 
+use super::meshdata::VertexMap;
 use super::plugs::{long_segs, target};
 use super::{Importer, Status};
 use crate::maya::plug::Index;
 use crate::maya::MayaError;
 
 /// Maps skinCluster `d` onto `geom` (a sinew mesh plug); returns its output plug.
-pub fn map_skin_cluster(imp: &mut Importer, d: usize, geom: &str, vertex_count: usize) -> Result<String, MayaError> {
+pub fn map_skin_cluster(imp: &mut Importer, d: usize, geom: &str, map: &VertexMap) -> Result<String, MayaError> {
+    let vertex_count = map.maya;
     let at = imp.node(d).at;
     let raw = imp.names.sinew_name(imp.scene, d);
     let name = imp.unique(&raw);
@@ -123,6 +125,7 @@ pub fn map_skin_cluster(imp: &mut Importer, d: usize, geom: &str, vertex_count: 
             format!("{name}: weights for {extra} vertices beyond the mesh's {vertex_count} are dropped"),
         );
     }
+    map.extend_dense(&mut lists);
     let weights = Weights::from_lists(lists.iter().map(|l| l.iter().copied()));
     imp.acc.set(&name, "weightList", Value::Weights(Arc::new(weights)));
     let nw = imp.number(d, "normalizeWeights").unwrap_or(1.0);

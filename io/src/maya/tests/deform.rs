@@ -16,6 +16,15 @@ fn mesh(g: &mut Graph, plug: &str) -> sinew_core::Mesh {
     }
 }
 
+/// Maya's vertex of each vertex of mesh node `node` (its `mayaVertex` when the importer
+/// split it along UV seams, else the identity over `n` vertices).
+pub fn maya_vertex(g: &mut Graph, node: &str, n: usize) -> Vec<usize> {
+    match g.get_path(&format!("{node}.mayaVertex")) {
+        Ok(Value::FloatArray(v)) => v.iter().map(|&k| k as usize).collect(),
+        _ => (0..n).collect(),
+    }
+}
+
 fn matrix(g: &mut Graph, plug: &str) -> DMat4 {
     match g.get_path(plug).unwrap_or_else(|e| panic!("{plug}: {e}")) {
         Value::Matrix(m) => m,
@@ -53,6 +62,13 @@ fn plane_skin_follows_mayas_formula() {
     ];
     for (k, (x, z)) in want.iter().enumerate() {
         assert_eq!(rest.positions[k], Vec3::new(*x, 0.0, *z), "vertex {k}");
+    }
+    // polyPlane UVs are per vertex (no seams): vertex (i, row) has (i/sw, row/sh), so no
+    // vertex is split and Maya's 6 vertices stay the mesh's 6.
+    let uvs = [(0.0, 0.0), (1.0, 0.0), (0.0, 0.5), (1.0, 0.5), (0.0, 1.0), (1.0, 1.0)];
+    assert_eq!(rest.positions.len(), 6);
+    for (k, (u, v)) in uvs.iter().enumerate() {
+        assert_eq!(rest.uvs[k], glam::Vec2::new(*u, *v), "uv of vertex {k}");
     }
     let gm = DMat4::from_scale(DVec3::splat(2.0));
     let bind = mesh(&mut g, "planeShape.outMesh");
@@ -112,10 +128,32 @@ fn leg_mesh_keeps_file_vertex_order_and_skins_by_the_formula() {
     }
     let mut g = imp.rig.to_graph(&registry()).unwrap();
     let rest = mesh(&mut g, "puppetLeg_left_geoShapeOrig.outMesh");
-    assert_eq!(rest.positions.len(), 2517);
+    let of = maya_vertex(&mut g, "puppetLeg_left_geoShapeOrig", rest.positions.len());
+    assert_eq!(vt.len(), 3 * 2517);
+    assert!(rest.positions.len() >= 2517);
     for (k, p) in rest.positions.iter().enumerate() {
-        let f = Vec3::new(vt[3 * k] as f32, vt[3 * k + 1] as f32, vt[3 * k + 2] as f32);
-        assert_eq!(*p, f, "vertex {k} is the file's .vt[{k}]");
+        let m = of[k];
+        assert!(k >= 2517 || m == k, "the first 2517 vertices are the file's, in order");
+        let f = Vec3::new(vt[3 * m] as f32, vt[3 * m + 1] as f32, vt[3 * m + 2] as f32);
+        assert_eq!(*p, f, "vertex {k} is the file's .vt[{m}]");
+    }
+    // UVs per face corner, read by hand from the file: face 0 is `f 4 0 1 2 3` over edges
+    // 0 = 7→796, 1 = 796→842, 2 = 842→843, 3 = 843→7 (`.ed[0:165]`), so its corners are
+    // vertices 7, 796, 842, 843 with `mu 0 4 0 1 2 3`: UVs 0..3 of `.uvsp[0:249]`. Fanned,
+    // triangles 0 and 1 are corners (0, 1, 2) and (0, 2, 3).
+    let uv = [
+        glam::Vec2::new(0.552_133_02, 0.610_095_98),
+        glam::Vec2::new(0.558_362_01, 0.608_493_98),
+        glam::Vec2::new(0.554_297_98, 0.636_120_98),
+        glam::Vec2::new(0.548_605_02, 0.636_650_03),
+    ];
+    let corner = [7, 796, 842, 843];
+    for (t, ks) in [[0, 1, 2], [0, 2, 3]].iter().enumerate() {
+        for (c, &k) in ks.iter().enumerate() {
+            let s = rest.triangles[t][c] as usize;
+            assert_eq!(of[s], corner[k], "triangle {t} corner {c}");
+            assert_eq!(rest.uvs[s], uv[k], "triangle {t} corner {c}");
+        }
     }
     // Maya's formula with the joints' evaluated world matrices and the stored weights.
     let skin = scene.nodes.iter().find(|n| n.ty == "skinCluster").unwrap();
@@ -141,7 +179,7 @@ fn leg_mesh_keeps_file_vertex_order_and_skins_by_the_formula() {
     let out = mesh(&mut g, "puppetLeg_left_geoShape.outMesh");
     let mut worst = 0.0f64;
     for (k, p) in rest.positions.iter().enumerate() {
-        let want = maya_skin(*p, &rows[k], &pm, DMat4::IDENTITY, &world);
+        let want = maya_skin(*p, &rows[of[k]], &pm, DMat4::IDENTITY, &world);
         worst = worst.max((out.positions[k].as_dvec3() - want).length() / want.length().max(1.0));
     }
     assert!(worst < 1e-5, "largest relative difference {worst}");
@@ -247,8 +285,16 @@ fn stored_target_deltas_move_the_listed_vertices() {
             };
             g.set_path(&format!("{sinew}.weight[{t}]"), Value::Float(1.0)).unwrap();
             let moved = mesh(&mut g, &format!("{sinew}.outputGeometry")).positions;
+            let input = g
+                .connections()
+                .into_iter()
+                .find(|(_, d)| g.plug_name(*d) == format!("{sinew}.inputGeometry"))
+                .map(|(s, _)| g.plug_name(s))
+                .unwrap();
+            let data = input.split('.').next().unwrap().to_string();
+            let of = maya_vertex(&mut g, &data, base.len());
             for (v, (b, m)) in base.iter().zip(&moved).enumerate() {
-                let want = match idx.iter().position(|&i| i as usize == v) {
+                let want = match idx.iter().position(|&i| i as usize == of[v]) {
                     Some(k) => *b + points[k].as_vec3(),
                     None => *b,
                 };

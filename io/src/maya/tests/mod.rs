@@ -8,6 +8,7 @@ mod constructs;
 mod deform;
 mod rigging;
 mod units;
+mod uv;
 
 use std::sync::Arc;
 
