@@ -1,7 +1,8 @@
 //! How fast `sinew view` plays and reloads, in a real browser: the numbers docs/viewer.md
 //! quotes. Plays the biped and a 20,000-vertex skin as fast as frames come (the page's
 //! `measurePlayback`: server evaluation, transfer and drawing, one animation frame each)
-//! and saves the biped five times to time the hot reload from the save.
+//! and saves the biped five times to time the hot reload from the save. Saving a component
+//! file and a mesh file the rigs use reloads them too (the mesh drawn from the new file).
 //!
 //! It asserts what it can justify (every frame shown, the whole deformed mesh transferred,
 //! every reload reaching the page) and prints the rates; it asserts no wall-clock time.
@@ -151,6 +152,15 @@ fn playback_and_reload_rates() {
             .collect::<Vec<_>>()
             .join(", "),
     );
+    // A component file the rig uses reloads it too.
+    let arm = dir.join("biped/arm.ron");
+    let rev = b.js("return window.sinew.revision;").as_u64().unwrap();
+    let arm_text = std::fs::read_to_string(&arm).unwrap();
+    std::fs::write(&arm, format!("{arm_text}// saved\n")).unwrap();
+    b.wait(
+        &format!("window.sinew.reloads.some((t) => t.pageRevision > {rev} && t.ok)"),
+        "a reload after saving the arm component",
+    );
     assert_eq!(b.js("return window.__errors;"), json!([]));
 
     // A 20,000-vertex skin: every frame carries the whole deformed mesh.
@@ -164,6 +174,20 @@ fn playback_and_reload_rates() {
         bytes >= (GRID.0 * GRID.1 * 12) as u64,
         "a frame of {bytes} bytes cannot hold 20,000 positions"
     );
+    // Saving the mesh file reloads it: vertex 0, weighted fully to the root joint at the
+    // origin, is drawn where the new file puts it.
+    let rev = b.js("return window.sinew.revision;").as_u64().unwrap();
+    let obj = std::fs::read_to_string(dir.join("grid.obj")).unwrap();
+    let obj = obj.replacen("v 0 0 0\n", "v 0 0 5\n", 1);
+    std::fs::write(dir.join("grid.obj"), obj).unwrap();
+    b.wait(
+        &format!("window.sinew.drawnRevision > {rev}"),
+        "a reload after saving grid.obj",
+    );
+    let v0 = b.js("const m = window.sinew.scene.meshes[0];
+        return Array.from(new Float32Array(window.sinew.buffer.slice(m.offset, m.offset + 12)));");
+    let v0: Vec<f64> = v0.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+    assert_eq!(v0, [0.0, 0.0, 5.0], "vertex 0 after the save");
     assert_eq!(b.js("return window.__errors;"), json!([]));
     drop((_biped, _grid, b));
     let _ = std::fs::remove_dir_all(&dir);
