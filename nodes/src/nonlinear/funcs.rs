@@ -39,7 +39,7 @@
 
 use glam::Vec3;
 
-use crate::deformer::fastmath::{cos, sin, sin_cos, sin_cos_near_zero};
+use crate::deformer::fastmath::{sin_cos, sin_cos_near_zero};
 
 /// A nonLinear function with its parameters (checked and converted once per frame).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -188,7 +188,7 @@ impl NearAngle {
     /// [`NEAR_SPAN`] apart (or not finite).
     pub fn new(a: f32, b: f32) -> Option<Self> {
         let (lo, hi) = (a.min(b), a.max(b));
-        if !(hi - lo <= NEAR_SPAN) {
+        if !(a.is_finite() && b.is_finite()) || hi - lo > NEAR_SPAN {
             return None;
         }
         let mid = 0.5 * lo + 0.5 * hi;
@@ -383,7 +383,7 @@ impl PointFn for SquashFn {
         let u = (t - m) * if t < m { inv_m } else { inv_1m };
         let (sm, sm1_sq, e, k) = if u < 0.0 { start } else { end };
         let h = k * ((sm1_sq - u * u).max(0.0).sqrt() - e);
-        let c = cos(u * std::f32::consts::FRAC_PI_2);
+        let (_, c) = sin_cos(u * std::f32::consts::FRAC_PI_2);
         let scale = root_f * (c * c * sm + h) + 1.0;
         let scale = if scale.abs() < 1e-6 {
             1e-6f32.copysign(scale)
@@ -485,7 +485,7 @@ impl PointFn for SineFn {
     #[inline(always)]
     fn apply(&self, p: Vec3) -> Vec3 {
         let yc = p.y.max(self.lb).min(self.hb);
-        let s = sin(self.freq * (yc + self.offset));
+        let (s, _) = sin_cos(self.freq * (yc + self.offset));
         let tau = (yc.abs() * if yc >= 0.0 { self.inv_hb } else { self.inv_lb }).min(1.0);
         Vec3::new(p.x + self.amplitude * dropoff(self.drop, tau) * s, p.y, p.z)
     }
@@ -544,7 +544,7 @@ impl<const AT: bool> PointFn for WaveFn<AT> {
     fn apply(&self, p: Vec3) -> Vec3 {
         let r = (p.x * p.x + p.z * p.z).sqrt();
         let rc = r.max(self.r0).min(self.r1);
-        let c = cos(self.freq * (rc + self.phase));
+        let (_, c) = sin_cos(self.freq * (rc + self.phase));
         let t = (rc - self.r0) * self.inv_span;
         let tau = if AT {
             let side = if t < self.position {

@@ -140,7 +140,9 @@ fn leg_mesh_keeps_file_vertex_order_and_skins_by_the_formula() {
     // UVs per face corner, read by hand from the file: face 0 is `f 4 0 1 2 3` over edges
     // 0 = 7→796, 1 = 796→842, 2 = 842→843, 3 = 843→7 (`.ed[0:165]`), so its corners are
     // vertices 7, 796, 842, 843 with `mu 0 4 0 1 2 3`: UVs 0..3 of `.uvsp[0:249]`. Fanned,
-    // triangles 0 and 1 are corners (0, 1, 2) and (0, 2, 3).
+    // triangles 0 and 1 are corners (0, 1, 2) and (0, 2, 3). The literals are the file's text
+    // (more digits than an f32 holds; parsed as the importer parses them).
+    #[allow(clippy::excessive_precision)]
     let uv = [
         glam::Vec2::new(0.552_133_02, 0.610_095_98),
         glam::Vec2::new(0.558_362_01, 0.608_493_98),
