@@ -15,17 +15,8 @@ use std::path::Path;
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-use browser::{chromium, image, save_screenshot, serve, Browser, SINEW};
+use browser::{chromium, epoch_ms, image, save_screenshot, serve, Browser, SINEW};
 use serde_json::{json, Value};
-
-/// Now, in milliseconds since the Unix epoch (the page and the server use the same clock).
-fn epoch_ms() -> f64 {
-    std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .unwrap()
-        .as_secs_f64()
-        * 1e3
-}
 
 /// `sinew eval` of one plug at one frame as numbers (parsed exactly from its CSV).
 fn eval(rig: &Path, frame: u32, plug: &str, set: &[&str]) -> Vec<f64> {

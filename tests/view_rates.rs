@@ -17,17 +17,8 @@ mod browser;
 use std::fmt::Write as _;
 use std::path::Path;
 
-use browser::{chromium, serve, view_bin, Browser};
+use browser::{chromium, epoch_ms, serve, view_bin, Browser};
 use serde_json::{json, Value};
-
-/// Now, in milliseconds since the Unix epoch (the page and the server use the same clock).
-fn epoch_ms() -> f64 {
-    std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .unwrap()
-        .as_secs_f64()
-        * 1e3
-}
 
 /// Columns and rows of the skinned grid: 200 × 100 = 20,000 vertices.
 const GRID: (usize, usize) = (200, 100);

@@ -19,6 +19,15 @@ pub fn view_bin() -> String {
 pub const WIDTH: u32 = 1100;
 pub const HEIGHT: u32 = 680;
 
+/// Now, in milliseconds since the Unix epoch (the page and the server use the same clock).
+pub fn epoch_ms() -> f64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .unwrap()
+        .as_secs_f64()
+        * 1e3
+}
+
 /// Chromium and chromedriver from PATH, or `None` after printing why `test` is skipped.
 pub fn chromium(test: &str) -> Option<(PathBuf, PathBuf)> {
     match (
