@@ -145,7 +145,7 @@ fn malformed_inputs_are_clean_errors() {
         out.join("b.ron").to_str().unwrap(),
     ]);
     assert_eq!(code, 1);
-    assert!(err.contains("line 15"), "{err}");
+    assert!(err.contains("bad.bvh:15:"), "{err}");
     // glTF variations of a valid file.
     let base = write_gltf_embedded(&small_scene()).unwrap();
     let json: serde_json::Value = serde_json::from_str(&base).unwrap();
