@@ -157,23 +157,7 @@ impl AimAtGeometry {
             Along::Tangent => "tangentConstraint",
         };
         let mut b = NodeSpec::builder(name);
-        b.maya_names(&[
-            ("targetWeight", "tw"),
-            ("constraintParentInverseMatrix", "cpim"),
-            ("constraintRotateOrder", "cro"),
-            ("constraintJointOrient", "cjo"),
-            ("constraintRotatePivot", "crp"),
-            ("constraintRotateTranslate", "crt"),
-            ("constraintTranslate", "ct"),
-            ("constraintRotateAxis", "cra"),
-            ("aimVector", "a"),
-            ("upVector", "u"),
-            ("worldUpType", "wut"),
-            ("worldUpVector", "wu"),
-            ("worldUpMatrix", "wum"),
-            ("restRotate", "rsrr"),
-            ("constraintRotate", "cr"),
-        ]);
+        b.maya_names(super::orient::AIM_FAMILY_MAYA_NAMES);
         b.doc(match along {
             Along::Normal => {
                 "turn the constrained node's aimVector along the normal of the closest target surface point"

@@ -168,29 +168,32 @@ pub struct AimConstraint {
     out_rotate: Output<DVec3>,
 }
 
+/// Maya's short names shared by the aim family (aimConstraint, normalConstraint,
+/// tangentConstraint): the same attributes under the same names on each.
+pub(crate) const AIM_FAMILY_MAYA_NAMES: &[(&str, &str)] = &[
+    ("targetWeight", "tw"),
+    ("constraintParentInverseMatrix", "cpim"),
+    ("constraintRotateOrder", "cro"),
+    ("constraintJointOrient", "cjo"),
+    ("constraintRotatePivot", "crp"),
+    ("constraintRotateTranslate", "crt"),
+    ("constraintTranslate", "ct"),
+    ("constraintRotateAxis", "cra"),
+    ("aimVector", "a"),
+    ("upVector", "u"),
+    ("worldUpType", "wut"),
+    ("worldUpVector", "wu"),
+    ("worldUpMatrix", "wum"),
+    ("restRotate", "rsrr"),
+    ("constraintRotate", "cr"),
+];
+
 impl AimConstraint {
     /// Creates the node type.
     pub fn new() -> Result<Self, SpecError> {
         let mut b = NodeSpec::builder("aimConstraint");
         // Maya's short names (see docs/rig-format.md, "Maya short names").
-        b.maya_names(&[
-            ("targetWeight", "tw"),
-            ("constraintParentInverseMatrix", "cpim"),
-            ("constraintRotateOrder", "cro"),
-            ("constraintJointOrient", "cjo"),
-            ("constraintRotatePivot", "crp"),
-            ("constraintRotateTranslate", "crt"),
-            ("constraintTranslate", "ct"),
-            ("constraintRotateAxis", "cra"),
-            ("aimVector", "a"),
-            ("upVector", "u"),
-            ("worldUpType", "wut"),
-            ("worldUpVector", "wu"),
-            ("worldUpMatrix", "wum"),
-            ("offset", "o"),
-            ("restRotate", "rsrr"),
-            ("constraintRotate", "cr"),
-        ]);
+        b.maya_names(AIM_FAMILY_MAYA_NAMES).maya_names(&[("offset", "o")]);
         b.doc("rotate the constrained node so its aimVector points at the weighted target position");
         let targets = Targets::declare(&mut b);
         let parent_inverse = declare_parent_inverse(&mut b);
