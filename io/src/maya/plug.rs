@@ -15,6 +15,17 @@ pub enum Index {
     All,
 }
 
+impl Index {
+    /// The first and last element (both included); `None` for [`Index::All`].
+    pub fn bounds(self) -> Option<(u32, u32)> {
+        match self {
+            Index::One(k) => Some((k, k)),
+            Index::Range(x, y) => Some((x, y)),
+            Index::All => None,
+        }
+    }
+}
+
 /// One `name[index]` segment of an attribute path.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Seg {

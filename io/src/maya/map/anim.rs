@@ -66,10 +66,8 @@ fn per_key(imp: &Importer, i: usize, attr: &str) -> Result<Vec<(u32, f64)>, Maya
         if segs.len() != 1 || segs[0].name != attr || a.values.is_empty() {
             continue;
         }
-        let (x, y) = match segs[0].index {
-            Some(Index::One(k)) => (k, k),
-            Some(Index::Range(x, y)) => (x, y),
-            _ => continue,
+        let Some((x, y)) = segs[0].index.and_then(Index::bounds) else {
+            continue;
         };
         let v = imp.values(a).elements((y - x + 1) as usize, 1).map_err(|e| {
             imp.error(
@@ -104,10 +102,8 @@ pub fn map_curve(imp: &mut Importer, i: usize) -> Result<(), MayaError> {
         if segs.len() != 1 || segs[0].name != "keyTimeValue" || a.values.is_empty() {
             continue;
         }
-        let (x, y) = match segs[0].index {
-            Some(Index::One(k)) => (k, k),
-            Some(Index::Range(x, y)) => (x, y),
-            _ => continue,
+        let Some((x, y)) = segs[0].index.and_then(Index::bounds) else {
+            continue;
         };
         let v = imp.values(a).elements((y - x + 1) as usize, 2).map_err(|e| {
             imp.error(

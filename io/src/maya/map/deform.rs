@@ -16,7 +16,6 @@ use std::collections::HashSet;
 use super::meshdata::{add_offsets, PolyMesh};
 use super::{Importer, Status};
 use crate::maya::attrs;
-use crate::maya::plug::Index;
 
 /// What a chain starts from.
 #[derive(Clone, Debug, PartialEq)]
@@ -182,10 +181,8 @@ pub fn fold_tweaks(imp: &mut Importer, chain: &Chain, poly: &mut PolyMesh) {
             let Some(idx) = segs.get(1).and_then(|s| s.index).filter(|_| ok && !a.values.is_empty()) else {
                 continue;
             };
-            let (x, y) = match idx {
-                Index::One(k) => (k, k),
-                Index::Range(x, y) => (x, y),
-                Index::All => continue,
+            let Some((x, y)) = idx.bounds() else {
+                continue;
             };
             if let Ok(v) = imp.values(a).elements((y - x + 1) as usize, 3) {
                 for (k, c) in v.chunks(3).enumerate() {

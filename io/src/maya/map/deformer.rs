@@ -47,10 +47,8 @@ fn weights(imp: &Importer, d: usize, n: usize) -> Result<Option<Vec<f64>>, MayaE
         if !ok || a.values.is_empty() {
             continue;
         }
-        let (x, y) = match segs[1].index {
-            Some(Index::One(k)) => (k, k),
-            Some(Index::Range(x, y)) => (x, y),
-            _ => continue,
+        let Some((x, y)) = segs[1].index.and_then(Index::bounds) else {
+            continue;
         };
         let v = imp.values(a).elements((y - x + 1) as usize, 1).map_err(|e| {
             imp.error(

@@ -312,10 +312,8 @@ fn indexed_vec3(imp: &Importer, m: usize, attr: &str) -> Result<Vec<(u32, glam::
         let Some(idx) = a.segs.first().and_then(|s| s.index) else {
             continue;
         };
-        let (x, y) = match idx {
-            Index::One(k) => (k, k),
-            Index::Range(x, y) => (x, y),
-            Index::All => continue,
+        let Some((x, y)) = idx.bounds() else {
+            continue;
         };
         let n = (y - x + 1) as usize;
         let v = imp.values(a).elements(n, 3).map_err(|e| {
@@ -408,10 +406,8 @@ fn own_geometry(imp: &Importer, m: usize) -> Result<Option<PolyMesh>, MayaError>
         else {
             continue;
         };
-        let (x, y) = match idx {
-            Index::One(k) => (k, k),
-            Index::Range(x, y) => (x, y),
-            Index::All => continue,
+        let Some((x, y)) = idx.bounds() else {
+            continue;
         };
         let v = imp.values(a).elements((y - x + 1) as usize, 2).map_err(|e| {
             imp.error(
