@@ -2,6 +2,7 @@
 //! the shared assets (skipped with a message when absent).
 
 mod anim;
+mod anim_time;
 mod assets;
 mod chain;
 mod constructs;
