@@ -5,6 +5,7 @@ mod anim;
 mod anim_time;
 mod assets;
 mod chain;
+mod constraints;
 mod constructs;
 mod deform;
 mod rigging;
