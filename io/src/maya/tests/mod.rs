@@ -8,6 +8,7 @@ mod chain;
 mod constraints;
 mod constructs;
 mod deform;
+mod ik_sc;
 mod rigging;
 mod units;
 mod uv;
