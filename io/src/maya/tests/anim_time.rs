@@ -122,3 +122,34 @@ connectAttr \"tu.o\" \"box.sx\";
         close(at(&mut g, fps, "box.scaleX", 3.0), 0.5, &format!("{unit} UT -> TU"));
     }
 }
+
+/// A scene time warp (Maya's *time* node: an animCurveTT's `apply` into `time1.timewarpIn`
+/// with `enableTimewarp` on) is not applied by sinew: the import warns, naming the
+/// connection's line, and the warp curve itself still maps.
+#[test]
+fn scene_time_warp_is_warned_by_line() {
+    let src = format!(
+        "{}createNode animCurveTT -n \"warp\";
+	setAttr \".tan\" 2;
+	setAttr -s 2 \".ktv[0:1]\"  0 0 10 20;
+select -ne :time1;
+	setAttr \".etw\" yes;
+connectAttr \"warp.a\" \":time1.twi\";
+",
+        header("film")
+    );
+    let imp = import(&src);
+    let line = src
+        .lines()
+        .position(|l| l.starts_with("connectAttr \"warp.a\""))
+        .unwrap()
+        + 1;
+    let w: Vec<&String> = imp.report.warnings.iter().filter(|w| w.contains("time warp")).collect();
+    assert_eq!(w.len(), 1, "{:?}", imp.report.warnings);
+    assert!(w[0].starts_with(&format!("test.ma:{line}:")), "{}", w[0]);
+    assert!(imp
+        .rig
+        .nodes
+        .iter()
+        .any(|n| n.name == "warp" && n.type_name == "animCurveTT"));
+}
