@@ -93,10 +93,14 @@ impl Deformer for SoftMod {
             .attr_doc(curve, "the parsed falloff ramp");
         s.keyable(position, false).keyable(value, false).keyable(interp, false);
         // Maya's short names (node reference, Nodes/softMod.html: falloffCenter `fcr`,
-        // falloffCurve_Position `fcp`). The stored reference pages did not show the short
-        // names of falloffRadius, falloffMode, falloffCurve_FloatValue and
-        // falloffCurve_Interp, so they have none here rather than guessed ones.
-        s.short_name(center, "fcr").short_name(position, "fcp");
+        // falloffCurve_Position `fcp`). falloffRadius `fr`: the stored reference pages stop
+        // before it; Maya-written scene files set it on softMod nodes as `setAttr ".fr" 2.5`
+        // (a non-default radius; the default is 5). The short names of falloffMode,
+        // falloffCurve_FloatValue and falloffCurve_Interp were found in neither, so they
+        // have none here rather than guessed ones.
+        s.short_name(center, "fcr")
+            .short_name(position, "fcp")
+            .short_name(radius, "fr");
         s.affects(&[position.id(), value.id(), interp.id()], &[curve.id()]);
         let mut ids = handle.ids();
         ids.extend([radius.id(), center.id(), mode.id(), curve.id()]);
