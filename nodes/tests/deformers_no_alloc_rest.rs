@@ -1,8 +1,9 @@
 //! A compiled frame through the deformers `deformers_no_alloc.rs` does not cover allocates
 //! nothing either: a counting global allocator watches 21 frames of `mesh → wire → wrap →
 //! proximityWrap (smoothed) → nonLinear ×5 (twist, squash, flare, sine, wave) → softMod
-//! (volume) → ffd (local, falloff outside) → cluster (relative)` once warm, with the wire
-//! curve, both wrap drivers and the cluster handle moving every frame (dynamic inputs; the
+//! (volume) → ffd (local, falloff outside) → cluster (relative) → shrinkWrap (toward a centre,
+//! inflated target)` once warm, with the wire curve, both wrap drivers, the cluster handle
+//! and the shrinkWrap target moving every frame (dynamic inputs; the
 //! moved curves and meshes are built before counting, so setting one is a reference-count
 //! increment), normals on. One test per binary: the counter is process-wide.
 
@@ -91,6 +92,7 @@ fn the_other_deformers_compiled_frames_allocate_nothing() {
         ("sm", "softMod"),
         ("ffd", "ffd"),
         ("cl", "cluster"),
+        ("sw", "shrinkWrap"),
     ];
     let mut prev = "body.outMesh".to_string();
     for (name, ty) in chain {
@@ -152,12 +154,24 @@ fn the_other_deformers_compiled_frames_allocate_nothing() {
     set(&mut g, "ffd.local", Value::Bool(true));
     set(&mut g, "ffd.outsideLattice", Value::Enum(2));
     set(&mut g, "cl.relative", Value::Bool(true));
+    // shrinkWrap onto the wrap driver sheet, towards a centre below it, the target inflated.
+    set(&mut g, "sw.targetGeom", Value::Mesh(lifted(&driver, 0.0)));
+    set(&mut g, "sw.projection", Value::Enum(1));
+    set(
+        &mut g,
+        "sw.targetMatrix",
+        Value::Matrix(DMat4::from_translation(DVec3::Z * -3.0)),
+    );
+    set(&mut g, "sw.targetInflation", Value::Float(0.01));
+    set(&mut g, "sw.closestIfNoIntersection", Value::Bool(true));
+    set(&mut g, "sw.envelope", Value::Float(0.5));
     set(&mut g, "cl.weightList[0]", Value::FloatArray(Arc::new(vec![0.5; n])));
     let dynamic = [
         "wire.deformedWire[0]",
         "wrap.driverPoints[0]",
         "pwrap.driverPoints[0]",
         "cl.weightedMatrix",
+        "sw.targetGeom",
     ]
     .map(|p| g.plug(p).unwrap())
     .to_vec();
@@ -171,14 +185,15 @@ fn the_other_deformers_compiled_frames_allocate_nothing() {
         )
         .unwrap(),
     );
-    let [h_wire, h_wrap, h_pwrap, h_cl] = [
+    let [h_wire, h_wrap, h_pwrap, h_cl, h_sw] = [
         "wire.deformedWire[0]",
         "wrap.driverPoints[0]",
         "pwrap.driverPoints[0]",
         "cl.weightedMatrix",
+        "sw.targetGeom",
     ]
     .map(|p| program.handle(p).unwrap());
-    let out = program.handle("cl.outputGeometry").unwrap();
+    let out = program.handle("sw.outputGeometry").unwrap();
     // Every frame's inputs, built before counting.
     let curves: Vec<_> = (0..5).map(|k| line(0.02 * k as f64, 0.1)).collect();
     let drivers: Vec<_> = (0..5).map(|k| lifted(&driver, 0.01 * k as f32)).collect();
@@ -189,6 +204,7 @@ fn the_other_deformers_compiled_frames_allocate_nothing() {
         inst.set(&h_pwrap, Value::Mesh(drivers[(k + 2) % 5].clone())).unwrap();
         let t = DVec3::new(0.01 * (k % 5) as f64, 0.0, 0.02);
         inst.set(&h_cl, Value::Matrix(DMat4::from_translation(t))).unwrap();
+        inst.set(&h_sw, Value::Mesh(drivers[(k + 1) % 5].clone())).unwrap();
         inst.evaluate(Time::new(k as f64, 24.0)).unwrap();
     };
     for k in 0..6 {

@@ -132,7 +132,7 @@ fn deformer_short_names_resolve_in_graphs_and_rig_files() {
 /// (Nodes/wire.html, Maya 2009 and 2020: `bw`, `dw`, `dds`); wire `sc`, softMod `fr`, ffd
 /// `ot` and deltaMush `si` from scene files Maya wrote (the stored reference pages stop
 /// before those attributes; see the comments at each declaration).
-const MORE_DEFORMER_NAMES: [(&str, &str, &str); 7] = [
+const MORE_DEFORMER_NAMES: [(&str, &str, &str); 8] = [
     ("wire", "bw[0]", "baseWire[0]"),
     ("wire", "dw[1]", "deformedWire[1]"),
     ("wire", "dds[0]", "dropoffDistance[0]"),
@@ -140,6 +140,7 @@ const MORE_DEFORMER_NAMES: [(&str, &str, &str); 7] = [
     ("softMod", "fr", "falloffRadius"),
     ("ffd", "ot", "outsideLattice"),
     ("deltaMush", "si", "smoothingIterations"),
+    ("shrinkWrap", "en", "envelope"),
 ];
 
 #[test]
