@@ -2,7 +2,7 @@
 //! nothing either: a counting global allocator watches 21 frames of `mesh → wire → wrap →
 //! proximityWrap (smoothed) → nonLinear ×5 (twist, squash, flare, sine, wave) → softMod
 //! (volume) → ffd (local, falloff outside) → cluster (relative) → shrinkWrap (toward a centre,
-//! inflated target)` once warm, with the wire curve, both wrap drivers, the cluster handle
+//! inflated target) → blendShape (a tangent-space target)` once warm, with the wire curve, both wrap drivers, the cluster handle
 //! and the shrinkWrap target moving every frame (dynamic inputs; the
 //! moved curves and meshes are built before counting, so setting one is a reference-count
 //! increment), normals on. One test per binary: the counter is process-wide.
@@ -93,6 +93,7 @@ fn the_other_deformers_compiled_frames_allocate_nothing() {
         ("ffd", "ffd"),
         ("cl", "cluster"),
         ("sw", "shrinkWrap"),
+        ("tbs", "blendShape"),
     ];
     let mut prev = "body.outMesh".to_string();
     for (name, ty) in chain {
@@ -165,6 +166,20 @@ fn the_other_deformers_compiled_frames_allocate_nothing() {
     set(&mut g, "sw.targetInflation", Value::Float(0.01));
     set(&mut g, "sw.closestIfNoIntersection", Value::Bool(true));
     set(&mut g, "sw.envelope", Value::Float(0.5));
+    // A tangent-space blendShape target (postDeformersMode 1) after everything.
+    set(&mut g, "tbs.originalGeometry", Value::Mesh(rest.clone()));
+    set(
+        &mut g,
+        "tbs.targetIndices[0]",
+        Value::IntArray(Arc::new(vec![3, 40, 41])),
+    );
+    set(
+        &mut g,
+        "tbs.targetDeltas[0]",
+        Value::Vec3Array(Arc::new(vec![DVec3::Z * 0.1; 3])),
+    );
+    set(&mut g, "tbs.postDeformersMode[0]", Value::Enum(1));
+    set(&mut g, "tbs.weight[0]", Value::Float(0.7));
     set(&mut g, "cl.weightList[0]", Value::FloatArray(Arc::new(vec![0.5; n])));
     let dynamic = [
         "wire.deformedWire[0]",
@@ -193,7 +208,7 @@ fn the_other_deformers_compiled_frames_allocate_nothing() {
         "sw.targetGeom",
     ]
     .map(|p| program.handle(p).unwrap());
-    let out = program.handle("sw.outputGeometry").unwrap();
+    let out = program.handle("tbs.outputGeometry").unwrap();
     // Every frame's inputs, built before counting.
     let curves: Vec<_> = (0..5).map(|k| line(0.02 * k as f64, 0.1)).collect();
     let drivers: Vec<_> = (0..5).map(|k| lifted(&driver, 0.01 * k as f32)).collect();
