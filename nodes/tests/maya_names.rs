@@ -130,14 +130,18 @@ fn deformer_short_names_resolve_in_graphs_and_rig_files() {
 
 /// Short names added with the second deformer round: wire's from Maya's node reference
 /// (Nodes/wire.html, Maya 2009 and 2020: `bw`, `dw`, `dds`); wire `sc`, softMod `fr`, ffd
-/// `ot` and deltaMush `si` from scene files Maya wrote (the stored reference pages stop
-/// before those attributes; see the comments at each declaration).
-const MORE_DEFORMER_NAMES: [(&str, &str, &str); 8] = [
+/// `ot` and deltaMush `si` from scene files Maya wrote, softMod `fcfv`/`fci` from node stubs
+/// generated from Maya's attribute data (the stored reference pages stop before those
+/// attributes; see the comments at each declaration).
+const MORE_DEFORMER_NAMES: [(&str, &str, &str); 11] = [
     ("wire", "bw[0]", "baseWire[0]"),
     ("wire", "dw[1]", "deformedWire[1]"),
     ("wire", "dds[0]", "dropoffDistance[0]"),
     ("wire", "sc[2]", "scale[2]"),
     ("softMod", "fr", "falloffRadius"),
+    ("softMod", "fcfv[1]", "falloffCurve_FloatValue[1]"),
+    ("softMod", "fci[0]", "falloffCurve_Interp[0]"),
+    ("softMod", "fcy", "falloffCenterY"),
     ("ffd", "ot", "outsideLattice"),
     ("deltaMush", "si", "smoothingIterations"),
     ("shrinkWrap", "en", "envelope"),
