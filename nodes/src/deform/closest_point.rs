@@ -332,3 +332,7 @@ mod tests {
         }
     }
 }
+
+#[cfg(test)]
+#[path = "tests_raycast.rs"]
+mod tests_raycast;
