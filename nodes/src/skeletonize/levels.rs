@@ -244,7 +244,11 @@ pub fn level_graph(grid: &Grid, member: &[bool], d2: &[f32], cells: &[u32], seed
     // Edges between touching clusters of consecutive bands: every touching cell pair
     // as a key (smaller cluster in the high half), sorted, counted by runs.
     // Neighbouring cells mostly give the pair just counted: runs are counted as they come.
+    // `slot` now holds each cell's cluster (`u32::MAX` off the component or unreached).
     let mut pairs: Vec<(u64, u32)> = Vec::new();
+    for (i, &c) in cells.iter().enumerate() {
+        slot[c as usize] = cluster_of[i];
+    }
     for (i, &c) in cells.iter().enumerate() {
         let c = c as usize;
         let ka = cluster_of[i];
@@ -252,11 +256,7 @@ pub fn level_graph(grid: &Grid, member: &[bool], d2: &[f32], cells: &[u32], seed
             continue;
         }
         for &o in &forward {
-            let m = (c as isize + o) as usize;
-            if !member[m] {
-                continue;
-            }
-            let kb = cluster_of[slot[m] as usize];
+            let kb = slot[(c as isize + o) as usize];
             if kb == u32::MAX || kb == ka {
                 continue;
             }
