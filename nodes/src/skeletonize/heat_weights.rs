@@ -124,7 +124,14 @@ pub fn bone_heat_weights_with_report(
     let (lo, hi) = pos.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(l, h), p| {
         (l.min(*p), h.max(*p))
     });
-    let extent = (hi - lo).length().max(1e-12);
+    // The mesh's size sets every length tolerance below (the unit is arbitrary); a
+    // mesh of one point gets 1.
+    let extent = (hi - lo).length();
+    let extent = if extent > 0.0 && extent.is_finite() {
+        extent
+    } else {
+        1.0
+    };
     let (weld, wpos) = weld_vertices(&pos, extent * 1e-7);
     let m = wpos.len();
     // Laplacian (lower triangle, off-diagonal), diagonal and vertex areas.
@@ -165,7 +172,7 @@ pub fn bone_heat_weights_with_report(
         .map(|b| b.a.distance(b.b))
         .fold(0.0, f64::max)
         .max(extent * 1e-3);
-    let nearest = Nearest::of_all(&wpos, &bones);
+    let nearest = Nearest::of_all(&wpos, &bones, extent * 1e-12);
     let mut sys = vec![u32::MAX; m];
     let mut count = 0usize;
     for v in 0..m {
@@ -294,7 +301,7 @@ struct Nearest {
 }
 
 impl Nearest {
-    fn of_all(points: &[DVec3], bones: &[Bone]) -> Nearest {
+    fn of_all(points: &[DVec3], bones: &[Bone], eps: f64) -> Nearest {
         let chunks: Vec<(Vec<f64>, Vec<u32>, Vec<u32>)> = points
             .par_chunks(4096)
             .map(|chunk| {
@@ -302,7 +309,7 @@ impl Nearest {
                 let (mut dist, mut counts, mut ids) = (Vec::with_capacity(chunk.len()), Vec::new(), Vec::new());
                 for &p in chunk {
                     let before = ids.len();
-                    dist.push(nearest_bones(p, bones, &mut d, &mut ids));
+                    dist.push(nearest_bones(p, bones, eps, &mut d, &mut ids));
                     counts.push((ids.len() - before) as u32);
                 }
                 (dist, counts, ids)
@@ -331,13 +338,13 @@ impl Nearest {
     }
 }
 
-/// Distance to the nearest bone; the bones within a hair of it are appended to `ids`
-/// (`d` is scratch space).
-fn nearest_bones(p: DVec3, bones: &[Bone], d: &mut Vec<f64>, ids: &mut Vec<u32>) -> f64 {
+/// Distance to the nearest bone; the bones within a hair of it (0.1% of it plus `eps`,
+/// a length relative to the mesh's size) are appended to `ids` (`d` is scratch space).
+fn nearest_bones(p: DVec3, bones: &[Bone], eps: f64, d: &mut Vec<f64>, ids: &mut Vec<u32>) -> f64 {
     d.clear();
     d.extend(bones.iter().map(|b| segment_distance(p, b.a, b.b)));
     let dmin = d.iter().copied().fold(f64::INFINITY, f64::min);
-    let tol = dmin * 1e-3 + 1e-12;
+    let tol = dmin * 1e-3 + eps;
     ids.extend((0..bones.len() as u32).filter(|&b| d[b as usize] <= dmin + tol));
     dmin
 }
