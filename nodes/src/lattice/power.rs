@@ -358,30 +358,13 @@ impl PowerLattice {
         let ps = step!(stu[0], splat!(scale[0]), splat!(shift[0]));
         let pt = step!(stu[1], splat!(scale[1]), splat!(shift[1]));
         let pu = step!(stu[2], splat!(scale[2]), splat!(shift[2]));
-        let (mut zx, mut zy, mut zz) = (zero, zero, zero);
-        for c in (0..nc).rev() {
-            let (mut yx, mut yy, mut yz) = (zero, zero, zero);
-            for b in (0..nb).rev() {
-                let row = &coeffs[na * (b + nb * c)..na * (b + nb * c + 1)];
-                let last = row[na - 1];
-                let (mut xx, mut xy, mut xz) = (splat!(last.x), splat!(last.y), splat!(last.z));
-                for &k in row[..na - 1].iter().rev() {
-                    xx = step!(xx, ps, splat!(k.x));
-                    xy = step!(xy, ps, splat!(k.y));
-                    xz = step!(xz, ps, splat!(k.z));
-                }
-                if b + 1 == nb {
-                    (yx, yy, yz) = (xx, xy, xz);
-                } else {
-                    (yx, yy, yz) = (step!(yx, pt, xx), step!(yy, pt, xy), step!(yz, pt, xz));
-                }
-            }
-            if c + 1 == nc {
-                (zx, zy, zz) = (yx, yy, yz);
-            } else {
-                (zx, zy, zz) = (step!(zx, pu, yx), step!(zy, pu, yy), step!(zz, pu, yz));
-            }
-        }
+        // Rows of 2, 3 or 4 points (the usual s divisions) with their Horner steps unrolled.
+        let [zx, zy, zz] = match na {
+            2 => horner_avx2::<2>(coeffs, [na, nb, nc], [ps, pt, pu]),
+            3 => horner_avx2::<3>(coeffs, [na, nb, nc], [ps, pt, pu]),
+            4 => horner_avx2::<4>(coeffs, [na, nb, nc], [ps, pt, pu]),
+            _ => horner_avx2::<0>(coeffs, [na, nb, nc], [ps, pt, pu]),
+        };
         // Points kept (outside, `inside` mode) keep their input.
         let moved = if all { every } else { inside };
         _mm256_storeu_ps(b[0].as_mut_ptr(), _mm256_blendv_ps(x, zx, moved));
@@ -389,6 +372,55 @@ impl PowerLattice {
         _mm256_storeu_ps(b[2].as_mut_ptr(), _mm256_blendv_ps(z, zz, moved));
         true
     }
+}
+
+/// The nested Horner evaluation of [`PowerLattice::point`] for 8 points with AVX2 (a multiply
+/// then an add per step, no fused multiply-add: the same bits). `NA` is the row length `na`
+/// when known at compile time (its steps unrolled), 0 otherwise.
+///
+/// # Safety
+/// The CPU must support AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn horner_avx2<const NA: usize>(
+    coeffs: &[Vec3],
+    [na, nb, nc]: [usize; 3],
+    [ps, pt, pu]: [std::arch::x86_64::__m256; 3],
+) -> [std::arch::x86_64::__m256; 3] {
+    use std::arch::x86_64::*;
+    macro_rules! step {
+        ($a:expr, $b:expr, $k:expr) => {
+            _mm256_add_ps(_mm256_mul_ps($a, $b), $k)
+        };
+    }
+    let na = if NA > 0 { NA } else { na };
+    let zero = _mm256_setzero_ps();
+    let (mut zx, mut zy, mut zz) = (zero, zero, zero);
+    for c in (0..nc).rev() {
+        let (mut yx, mut yy, mut yz) = (zero, zero, zero);
+        for b in (0..nb).rev() {
+            let row = &coeffs[na * (b + nb * c)..na * (b + nb * c + 1)];
+            let last = row[na - 1];
+            let (mut xx, mut xy, mut xz) = (_mm256_set1_ps(last.x), _mm256_set1_ps(last.y), _mm256_set1_ps(last.z));
+            for &k in row[..na - 1].iter().rev() {
+                xx = step!(xx, ps, _mm256_set1_ps(k.x));
+                xy = step!(xy, ps, _mm256_set1_ps(k.y));
+                xz = step!(xz, ps, _mm256_set1_ps(k.z));
+            }
+            if b + 1 == nb {
+                (yx, yy, yz) = (xx, xy, xz);
+            } else {
+                (yx, yy, yz) = (step!(yx, pt, xx), step!(yy, pt, xy), step!(yz, pt, xz));
+            }
+        }
+        if c + 1 == nc {
+            (zx, zy, zz) = (yx, yy, yz);
+        } else {
+            (zx, zy, zz) = (step!(zx, pu, yx), step!(zy, pu, yy), step!(zz, pu, yz));
+        }
+    }
+    [zx, zy, zz]
 }
 
 /// Whether lattice coordinates `stu` lie inside the lattice (`[0, 1]³`).
