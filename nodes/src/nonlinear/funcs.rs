@@ -478,13 +478,21 @@ impl SineFn {
     }
 }
 
+impl SineFn {
+    /// How far a point at handle-space height `y` moves along the handle's X axis.
+    #[inline(always)]
+    pub fn shift(&self, y: f32) -> f32 {
+        let yc = y.max(self.lb).min(self.hb);
+        let (s, _) = sin_cos(self.freq * (yc + self.offset));
+        let tau = (yc.abs() * if yc >= 0.0 { self.inv_hb } else { self.inv_lb }).min(1.0);
+        self.amplitude * dropoff(self.drop, tau) * s
+    }
+}
+
 impl PointFn for SineFn {
     #[inline(always)]
     fn apply(&self, p: Vec3) -> Vec3 {
-        let yc = p.y.max(self.lb).min(self.hb);
-        let (s, _) = sin_cos(self.freq * (yc + self.offset));
-        let tau = (yc.abs() * if yc >= 0.0 { self.inv_hb } else { self.inv_lb }).min(1.0);
-        Vec3::new(p.x + self.amplitude * dropoff(self.drop, tau) * s, p.y, p.z)
+        Vec3::new(p.x + self.shift(p.y), p.y, p.z)
     }
 }
 
