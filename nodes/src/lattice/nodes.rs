@@ -271,8 +271,12 @@ impl Deformer for Ffd {
             .attr_doc(outside, "inside: only vertices in the lattice move; all; falloff")
             .attr_doc(falloff, "falloff distance outside the lattice (base lattice units)")
             .attr_doc(geom, "the deformed mesh's world matrix");
-        // Maya's short names (node reference, Nodes/ffd.html). outsideLattice and
-        // outsideFalloffDist have none here: the stored pages did not show theirs.
+        // Maya's short names (node reference, Nodes/ffd.html). outsideLattice `ot`: the
+        // stored reference pages stop before it; Maya-written scene files set `setAttr ".ot"
+        // 1` on ffd nodes (Maya writes only non-default values: outsideLattice's default is
+        // 0, outsideFalloffDist's 1, so `.ot` 1 is outsideLattice = all). outsideFalloffDist
+        // has none here: its short name was found in neither.
+        s.short_name(outside, "ot");
         s.short_name(points, "dlp")
             .short_name(deformed, "dlm")
             .short_name(base, "blm")

@@ -240,6 +240,11 @@ impl Deformer for DeltaMush {
             )
             .attr_doc(scale, "scales the restored offsets along the object axes")
             .attr_doc(bind, "bind data (MushBind)");
+        // Maya's short name for smoothingIterations, `si`: the stored deltaMush reference
+        // pages stop before it (they show cacheSmoothingIterations `csi`); Maya-written scene
+        // files set it as `setAttr ".si" 1` on deltaMush nodes. The other attributes' short
+        // names were found in neither, so they have none.
+        s.short_name(iterations, "si");
         s.affects(
             &[
                 original.id(),
