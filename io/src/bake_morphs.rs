@@ -49,10 +49,22 @@ fn name(g: &Graph, n: NodeId) -> String {
 pub fn blend_morphs(g: &mut Graph, bs: NodeId, vc: usize, warnings: &mut Vec<String>) -> Result<BlendMorphs, String> {
     let bname = name(g, bs);
     let targets = match g.get_path(&format!("{bname}.targetCache")).map_err(|e| e.to_string())? {
-        Value::Object(o) => o
-            .downcast::<BlendShapeCache>()
-            .map(|c| c.targets.clone())
-            .ok_or_else(|| format!("{bname}.targetCache is not a blendShape cache"))?,
+        Value::Object(o) => {
+            let c = o
+                .downcast::<BlendShapeCache>()
+                .ok_or_else(|| format!("{bname}.targetCache is not a blendShape cache"))?;
+            if let Some(t) = &c.tangent {
+                let ids: Vec<String> = (0..t.targets.len())
+                    .filter(|&i| t.targets[i] != Default::default())
+                    .map(|i| i.to_string())
+                    .collect();
+                warnings.push(format!(
+                    "{bname}: glTF cannot express tangent-space targets (postDeformersMode, target {}); their deformation is lost",
+                    ids.join(", ")
+                ));
+            }
+            c.targets.clone()
+        }
         other => return Err(format!("{bname}.targetCache is not an object ({other})")),
     };
     let mut keys = Vec::new();

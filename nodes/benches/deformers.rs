@@ -14,7 +14,9 @@
 //! 10× LBS. Then criterion measures each case on its own.
 //!
 //! Run: `cargo bench -p sinew-nodes --no-default-features --bench deformers --
-//! --warm-up-time 1 --measurement-time 2`.
+//! --warm-up-time 1 --measurement-time 2`. To profile one case: build with `--profile
+//! bench-quick --no-run`, then `perf record -g <bench binary> --bench --profile-time 5
+//! 'deformers_100k/bend$'` (the interleaved report is skipped under `--profile-time`).
 
 use std::f32::consts::FRAC_PI_2;
 
@@ -313,7 +315,10 @@ fn bench(c: &mut Criterion) {
     let (weights, palette) = lbs_rig(m.positions.len());
     let prepared = PreparedWeights::new(&weights);
     let cases = cases(&m);
-    report(&m, &m, &prepared, &palette, &cases);
+    // Under `--profile-time` (profiling one case with perf) the interleaved report is skipped.
+    if !std::env::args().any(|a| a == "--profile-time") {
+        report(&m, &m, &prepared, &palette, &cases);
+    }
     let mut g = c.benchmark_group("deformers_100k");
     g.throughput(Throughput::Elements(m.positions.len() as u64));
     let mut out = vec![Vec3::ZERO; m.positions.len()];

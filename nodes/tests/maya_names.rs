@@ -127,3 +127,45 @@ fn deformer_short_names_resolve_in_graphs_and_rig_files() {
         assert_eq!(*o, *p + glam::Vec3::X);
     }
 }
+
+/// Short names added with the second deformer round: wire's from Maya's node reference
+/// (Nodes/wire.html, Maya 2009 and 2020: `bw`, `dw`, `dds`); wire `sc`, softMod `fr`, ffd
+/// `ot` and deltaMush `si` from scene files Maya wrote, softMod `fcfv`/`fci` from node stubs
+/// generated from Maya's attribute data (the stored reference pages stop before those
+/// attributes; see the comments at each declaration).
+const MORE_DEFORMER_NAMES: [(&str, &str, &str); 11] = [
+    ("wire", "bw[0]", "baseWire[0]"),
+    ("wire", "dw[1]", "deformedWire[1]"),
+    ("wire", "dds[0]", "dropoffDistance[0]"),
+    ("wire", "sc[2]", "scale[2]"),
+    ("softMod", "fr", "falloffRadius"),
+    ("softMod", "fcfv[1]", "falloffCurve_FloatValue[1]"),
+    ("softMod", "fci[0]", "falloffCurve_Interp[0]"),
+    ("softMod", "fcy", "falloffCenterY"),
+    ("ffd", "ot", "outsideLattice"),
+    ("deltaMush", "si", "smoothingIterations"),
+    ("shrinkWrap", "en", "envelope"),
+];
+
+#[test]
+fn second_round_deformer_short_names_resolve() {
+    let mut g = Graph::new(sinew_nodes::registry().unwrap());
+    for (ty, short, long) in MORE_DEFORMER_NAMES {
+        let node = format!("a_{ty}");
+        if g.find_node(&node).is_none() {
+            g.add_node(ty, &node).unwrap();
+        }
+        let (s, l) = (format!("{node}.{short}"), format!("{node}.{long}"));
+        assert_eq!(g.plug(&s).unwrap(), g.plug(&l).unwrap(), "{s}");
+    }
+    g.set_path("a_wire.dds[0]", sinew_core::Value::Float(2.0)).unwrap();
+    assert!(matches!(
+        g.get_path("a_wire.dropoffDistance[0]"),
+        Ok(sinew_core::Value::Float(d)) if d == 2.0
+    ));
+    let p = Program::compile(&g, &CompileOptions::default()).unwrap();
+    assert_eq!(
+        p.handle("a_wire.dds[0]").unwrap(),
+        p.handle("a_wire.dropoffDistance[0]").unwrap()
+    );
+}

@@ -204,11 +204,8 @@ impl LineIndex {
     pub fn new(src: &str) -> Self {
         let mut starts = Vec::with_capacity(src.len() / 40 + 1);
         starts.push(0);
-        for (i, b) in src.bytes().enumerate() {
-            if b == b'\n' {
-                starts.push(i as u32 + 1);
-            }
-        }
+        // `match_indices` with a char finds the newlines with memchr (word at a time).
+        starts.extend(src.match_indices('\n').map(|(i, _)| i as u32 + 1));
         LineIndex { starts }
     }
 

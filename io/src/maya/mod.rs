@@ -168,9 +168,9 @@ pub fn import_maya(
     registry: &Arc<Registry>,
     opts: &MayaImportOptions,
 ) -> Result<MayaImport, MayaError> {
-    let lines = lex::LineIndex::new(text);
     let mut scene = parse::parse(text).map_err(|e| {
-        let (line, col) = lines.line_col(text, e.offset);
+        // The line index is built only for an error: the importer builds its own.
+        let (line, col) = lex::LineIndex::new(text).line_col(text, e.offset);
         MayaError {
             file: file.to_string(),
             line,

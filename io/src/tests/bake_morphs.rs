@@ -149,6 +149,20 @@ fn in_betweens_bake_as_hat_weighted_morphs_equal_to_sinew_at_every_frame() {
     assert!(mid[4].z > 0.5, "{}", mid[4]);
 }
 
+#[test]
+fn tangent_space_targets_are_named_in_a_warning() {
+    let mut g = in_between_rig();
+    set(&mut g, "bs.postDeformersMode[1]", Value::Enum(1));
+    set(&mut g, "bs.originalGeometry", Value::Mesh(Arc::new(sheet())));
+    let (_, warnings) = bake(&mut g, &options(false)).unwrap();
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains("bs: glTF cannot express tangent-space targets") && w.contains("target 1")),
+        "{warnings:?}"
+    );
+}
+
 fn cluster_rig() -> Graph {
     let mut g = Graph::new(sinew_nodes::registry().unwrap());
     g.add_node("mesh", "body").unwrap();

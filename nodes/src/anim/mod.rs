@@ -14,7 +14,7 @@ mod tests_nodes;
 pub use nodes::{AnimCurveNode, CurveCache, CurveKind, TANGENT_NAMES};
 pub use set_keys::set_keys;
 
-/// Registers this family's node types (`animCurveTL/TA/TU/UL/UA/UU`, `quatCurve`, `vectorCurve`).
+/// Registers this family's node types (`animCurveTL/TA/TT/TU/UL/UA/UT/UU`, `quatCurve`, `vectorCurve`).
 pub fn register(registry: &mut sinew_core::Registry) -> Result<(), sinew_core::SpecError> {
     nodes::register(registry)?;
     quat_curve::register(registry)

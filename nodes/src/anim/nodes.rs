@@ -1,6 +1,8 @@
-//! The animCurve node plugins: `animCurveTL/TA/TU` (driven by the graph's
-//! time, keys in frames) and `animCurveUL/UA/UU` (driven keys: `input` is any
-//! float plug), evaluated by [`AnimCurve`].
+//! The animCurve node plugins: `animCurveTL/TA/TT/TU` (driven by the graph's
+//! time, keys in frames) and `animCurveUL/UA/UT/UU` (driven keys: `input` is any
+//! float plug), evaluated by [`AnimCurve`]. The `*T` kinds output a time in frames
+//! (Maya's `animCurveTT` time warp and `animCurveUT`): their `output` is a frame
+//! number that can drive another curve's `input`.
 //!
 //! # Attributes (all curve types)
 //! Keys are parallel multis sharing a logical index: `keyTime[i]` (frames, or
@@ -57,7 +59,8 @@ pub const TANGENT_NAMES: [&str; 9] = [
 /// Index of [`TangentType::Auto`] in [`TANGENT_NAMES`] (the default tangent).
 const AUTO: i64 = 6;
 
-/// The six Maya animCurve types.
+/// The eight Maya animCurve types (input: Time or Unitless; output: Linear,
+/// Angular, Time or Unitless).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CurveKind {
     /// Time → linear (translate).
@@ -66,23 +69,29 @@ pub enum CurveKind {
     TA,
     /// Time → unitless.
     TU,
+    /// Time → time (a time warp; output in frames).
+    TT,
     /// Float driver → linear (driven key).
     UL,
     /// Float driver → angular (driven key, degrees on plugs).
     UA,
     /// Float driver → unitless (driven key).
     UU,
+    /// Float driver → time (driven key; output in frames).
+    UT,
 }
 
 impl CurveKind {
     /// All kinds.
-    pub const ALL: [CurveKind; 6] = [
+    pub const ALL: [CurveKind; 8] = [
         CurveKind::TL,
         CurveKind::TA,
         CurveKind::TU,
+        CurveKind::TT,
         CurveKind::UL,
         CurveKind::UA,
         CurveKind::UU,
+        CurveKind::UT,
     ];
 
     /// Maya's node type name.
@@ -91,15 +100,17 @@ impl CurveKind {
             CurveKind::TL => "animCurveTL",
             CurveKind::TA => "animCurveTA",
             CurveKind::TU => "animCurveTU",
+            CurveKind::TT => "animCurveTT",
             CurveKind::UL => "animCurveUL",
             CurveKind::UA => "animCurveUA",
             CurveKind::UU => "animCurveUU",
+            CurveKind::UT => "animCurveUT",
         }
     }
 
     /// Whether the curve reads the graph's time (else its `input` plug).
     pub fn time_driven(self) -> bool {
-        matches!(self, CurveKind::TL | CurveKind::TA | CurveKind::TU)
+        matches!(self, CurveKind::TL | CurveKind::TA | CurveKind::TU | CurveKind::TT)
     }
 
     /// Whether values are angles (degrees on plugs, radians inside).
@@ -111,6 +122,7 @@ impl CurveKind {
         match self {
             CurveKind::TL | CurveKind::UL => Unit::Distance,
             CurveKind::TA | CurveKind::UA => Unit::Degrees,
+            CurveKind::TT | CurveKind::UT => Unit::Frames,
             _ => Unit::None,
         }
     }
@@ -137,7 +149,7 @@ impl CurveCache {
     }
 }
 
-/// An animCurve node type (one struct for the six kinds).
+/// An animCurve node type (one struct for the eight kinds).
 ///
 /// Two compute groups: `curveCache` ← key attributes, infinities,
 /// `weightedTangents`; `output` ← `curveCache` and `input` (driven curves) or
@@ -508,7 +520,7 @@ fn to_radians(keys: &mut [Key], pre: Infinity, post: Infinity, weighted: bool) {
     }
 }
 
-/// Registers the six animCurve node types.
+/// Registers the eight animCurve node types.
 pub fn register(registry: &mut sinew_core::Registry) -> Result<(), SpecError> {
     for kind in CurveKind::ALL {
         registry.register(AnimCurveNode::new(kind)?)?;

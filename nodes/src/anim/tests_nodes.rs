@@ -332,3 +332,30 @@ fn tangent_types_are_named_multi_enums() {
         }
     }
 }
+
+/// A time warp: an `animCurveTT` from (0, 0) to (10, 20), linear, outputs twice the
+/// frame (frame 5 → 10, frame 2.5 → 5), and drives an `animCurveUL` keyed in frames
+/// ((0, 0) to (20, 4), linear: value = warped frame / 5), so at frame 5 the driven curve
+/// reads frame 10 and gives 2. Output units: frames on both time-output kinds.
+#[test]
+fn time_warp_tt_drives_a_curve_input() {
+    let mut g = graph();
+    let lin = |t, v| Key::new(t, v, T::Linear);
+    curve_node(&mut g, "animCurveTT", "warp", &[lin(0.0, 0.0), lin(10.0, 20.0)]);
+    curve_node(&mut g, "animCurveUL", "tx", &[lin(0.0, 0.0), lin(20.0, 4.0)]);
+    curve_node(&mut g, "animCurveUT", "ut", &[lin(0.0, 0.0), lin(1.0, 24.0)]);
+    g.connect_path("warp.output", "tx.input").unwrap();
+    let warped = frames(&mut g, "warp.output", &[2.5, 5.0, 10.0]);
+    assert_eq!(warped, vec![5.0, 10.0, 20.0]);
+    let driven = frames(&mut g, "tx.output", &[2.5, 5.0, 10.0]);
+    assert_eq!(driven, vec![1.0, 2.0, 4.0]);
+    // animCurveUT: driver 0.5 → 12 frames.
+    g.set_path("ut.input", Value::Float(0.5)).unwrap();
+    assert_eq!(float(g.get_path("ut.output").unwrap()), 12.0);
+    let reg = crate::registry().unwrap();
+    for ty in ["animCurveTT", "animCurveUT"] {
+        let spec = reg.get(ty).unwrap().spec();
+        let out = spec.attr(spec.find("output").unwrap().0);
+        assert_eq!(out.unit, sinew_core::Unit::Frames, "{ty}.output");
+    }
+}

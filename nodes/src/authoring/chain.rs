@@ -14,7 +14,7 @@
 //!   `outputGeometry` (`mush.outputGeometry`);
 //! - `body.outMesh → d.originalGeometry` for every listed deformer `d` that has an
 //!   `originalGeometry` input the rig does not connect itself (deltaMush, tension, wrap,
-//!   proximityWrap: their rest mesh), as Maya connects the original shape to every
+//!   proximityWrap, blendShape: their rest mesh), as Maya connects the original shape to every
 //!   deformer's `originalGeometry`.
 //!
 //! The shape holds the rest geometry (Maya's `bodyShapeOrig`); the field is accepted by

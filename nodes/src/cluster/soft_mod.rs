@@ -93,10 +93,20 @@ impl Deformer for SoftMod {
             .attr_doc(curve, "the parsed falloff ramp");
         s.keyable(position, false).keyable(value, false).keyable(interp, false);
         // Maya's short names (node reference, Nodes/softMod.html: falloffCenter `fcr`,
-        // falloffCurve_Position `fcp`). The stored reference pages did not show the short
-        // names of falloffRadius, falloffMode, falloffCurve_FloatValue and
-        // falloffCurve_Interp, so they have none here rather than guessed ones.
-        s.short_name(center, "fcr").short_name(position, "fcp");
+        // falloffCurve_Position `fcp`). falloffRadius `fr`: the stored reference pages stop
+        // before it; Maya-written scene files set it on softMod nodes as `setAttr ".fr" 2.5`
+        // (a non-default radius; the default is 5). falloffCurve_FloatValue `fcfv` and
+        // falloffCurve_Interp `fci`: from node stubs generated from Maya's own attribute data
+        // (the `falloffCurve` compound's children, next to `fcp`). falloffMode's short name was
+        // found nowhere, so it has none rather than a guessed one.
+        s.short_name(center, "fcr")
+            .short_name(position, "fcp")
+            .short_name(value, "fcfv")
+            .short_name(interp, "fci")
+            .short_name(radius, "fr");
+        // falloffCenter's children do not follow the suffix rule (`fcrx`): the same generated
+        // stubs give falloffCenterX/Y/Z `fcx`, `fcy`, `fcz`.
+        s.child_short_names(center, Some(["fcx", "fcy", "fcz"]));
         s.affects(&[position.id(), value.id(), interp.id()], &[curve.id()]);
         let mut ids = handle.ids();
         ids.extend([radius.id(), center.id(), mode.id(), curve.id()]);

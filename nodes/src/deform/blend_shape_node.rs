@@ -17,6 +17,11 @@
 //!   target it belongs to), `inbetweenWeight[j]` (float: the weight at which it is reached,
 //!   e.g. 0.5), `inbetweenIndices[j]`, `inbetweenDeltas[j]` (its sparse offsets from the
 //!   base). This plays the role of Maya's `inputTargetItem[5000 + 1000·w]` entries.
+//! - `postDeformersMode[i]` (enum: `off`, `tangentSpace`, `transformSpace`; Maya's
+//!   `inputTarget[0].inputTargetGroup[i].postDeformersMode`): `tangentSpace` stores target
+//!   `i`'s deltas in the tangent frames of `originalGeometry` (mesh: the rest mesh) and
+//!   applies them in the frames of `inputGeometry` (see [`super::blend_shape_tangent`]); put
+//!   such a blendShape after the skinCluster. `transformSpace` is an error (not implemented).
 //!
 //! Outputs: `outputGeometry` (mesh; normals are passed through from the input: a skinCluster
 //! downstream skins them) and `targetCache` (object: the parsed `Vec<Target>`).
@@ -41,6 +46,7 @@ use sinew_core::{
 };
 
 use super::blend_shape::{apply, InBetween, SparseDelta, Target};
+use super::blend_shape_tangent::{TangentTargets, POST_DEFORMERS_MODES};
 use super::mesh_nodes::copy_topology;
 use super::skin_cluster::with_scratch;
 
@@ -52,6 +58,8 @@ pub const MAX_TARGETS: u32 = 65_536;
 pub struct BlendShapeCache {
     /// Target `i` is driven by `weight[i]`.
     pub targets: Vec<Target>,
+    /// The tangent-space targets (emptied in `targets`), when there are any.
+    pub tangent: Option<TangentTargets>,
 }
 
 /// The `blendShape` node (see the module docs).
@@ -67,6 +75,8 @@ pub struct BlendShape {
     ib_weight: MultiInput<f64>,
     ib_indices: MultiInput<Arc<Vec<i64>>>,
     ib_deltas: MultiInput<Arc<Vec<DVec3>>>,
+    post_mode: MultiInput<i64>,
+    rest: Input<Arc<Mesh>>,
     output: Output<Arc<Mesh>>,
     cache: Output<ObjectRef>,
 }
@@ -120,6 +130,8 @@ impl BlendShape {
         let ib_weight = s.multi_input("inbetweenWeight", 0.5);
         let ib_indices = s.multi_input("inbetweenIndices", Arc::new(Vec::<i64>::new()));
         let ib_deltas = s.multi_input("inbetweenDeltas", Arc::new(Vec::<DVec3>::new()));
+        let post_mode = s.multi_input_enum("postDeformersMode", &POST_DEFORMERS_MODES, 0);
+        let rest = s.input("originalGeometry", Arc::new(Mesh::default()));
         let output = s.output("outputGeometry", Arc::new(Mesh::default()));
         let cache = s.output("targetCache", ObjectRef::default());
         s.attr_doc(input, "base mesh")
@@ -132,9 +144,17 @@ impl BlendShape {
             .attr_doc(ib_weight, "weight at which in-between j is reached")
             .attr_doc(ib_indices, "vertex indices of in-between j")
             .attr_doc(ib_deltas, "offsets of in-between j from the base")
+            .attr_doc(
+                post_mode,
+                "tangentSpace: target i's deltas follow the input's tangent frames",
+            )
+            .attr_doc(rest, "the rest mesh tangent-space targets are authored on")
             .attr_doc(output, "the deformed mesh")
             .attr_doc(cache, "parsed targets (BlendShapeCache)");
-        s.keyable(ib_target, false).keyable(ib_weight, false);
+        s.keyable(ib_target, false)
+            .keyable(ib_weight, false)
+            .keyable(post_mode, false)
+            .keyable(rest, false);
         s.affects(
             &[
                 indices.id(),
@@ -144,6 +164,8 @@ impl BlendShape {
                 ib_weight.id(),
                 ib_indices.id(),
                 ib_deltas.id(),
+                post_mode.id(),
+                rest.id(),
             ],
             &[cache.id()],
         );
@@ -160,6 +182,8 @@ impl BlendShape {
             ib_weight,
             ib_indices,
             ib_deltas,
+            post_mode,
+            rest,
             output,
             cache,
         })
@@ -217,7 +241,12 @@ impl BlendShape {
                 .in_betweens
                 .push(InBetween { weight: w, delta });
         }
-        ctx.set(self.cache, ObjectRef::new(BlendShapeCache { targets }));
+        let modes: Vec<(u32, i64)> = (0..ctx.multi_len(self.post_mode))
+            .filter_map(|k| ctx.multi_at(self.post_mode, k))
+            .collect();
+        let rest = ctx.get(self.rest);
+        let tangent = TangentTargets::split(&mut targets, &modes, &rest)?;
+        ctx.set(self.cache, ObjectRef::new(BlendShapeCache { targets, tangent }));
         Ok(())
     }
 
@@ -260,7 +289,11 @@ impl BlendShape {
             }
             out.positions.resize(mesh.positions.len(), Vec3::ZERO);
             apply(&mesh.positions, &cache.targets, w, envelope, &mut out.positions)
-                .map_err(|e| ComputeError::new(format!("blendShape: {e}")))
+                .map_err(|e| ComputeError::new(format!("blendShape: {e}")))?;
+            match &cache.tangent {
+                Some(t) => t.add(&mesh, w, envelope, &mut out.positions),
+                None => Ok(()),
+            }
         })
     }
 }

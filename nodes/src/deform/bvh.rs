@@ -246,4 +246,103 @@ impl Bvh {
         }
         false
     }
+
+    /// Rebuilds the hierarchy over `boxes` in place: the tree [`Bvh::build`] makes, reusing
+    /// this one's buffers, so a rebuild every frame allocates nothing once they are large
+    /// enough (the node count depends only on the primitive count).
+    pub fn rebuild(&mut self, boxes: &[Aabb]) {
+        self.nodes.clear();
+        self.prims.clear();
+        self.prims.extend(0..boxes.len() as u32);
+        if !boxes.is_empty() {
+            self.nodes.push(Node {
+                bounds: Aabb::EMPTY,
+                start: 0,
+                count: 0,
+            });
+            self.split(0, 0, boxes.len(), boxes);
+        }
+    }
+
+    /// The primitive whose hit `hit(prim)` (a ray parameter `t`, `None` for a miss) is the
+    /// smallest, for the ray `origin + t·dir`, `t ∈ [0, max_t]`. `hit` must only return
+    /// parameters of points inside the primitive's box. Returns `(prim, t)`.
+    pub fn ray_nearest(
+        &self,
+        origin: Vec3A,
+        dir: Vec3A,
+        max_t: f32,
+        mut hit: impl FnMut(u32) -> Option<f32>,
+    ) -> Option<(u32, f32)> {
+        if self.nodes.is_empty() {
+            return None;
+        }
+        let (o, d) = (origin.to_array(), dir.to_array());
+        // Entry parameter of the ray into a box, `None` when it misses within `[0, best]`.
+        let enter = |b: &Aabb, best: f32| -> Option<f32> {
+            let (lo, hi) = (b.min.to_array(), b.max.to_array());
+            let (mut t0, mut t1) = (0f32, best);
+            for k in 0..3 {
+                if d[k] == 0.0 {
+                    if o[k] < lo[k] || o[k] > hi[k] {
+                        return None;
+                    }
+                    continue;
+                }
+                let inv = 1.0 / d[k];
+                let (a, b) = ((lo[k] - o[k]) * inv, (hi[k] - o[k]) * inv);
+                let (near, far) = if a <= b { (a, b) } else { (b, a) };
+                t0 = t0.max(near);
+                t1 = t1.min(far);
+                if t0 > t1 {
+                    return None;
+                }
+            }
+            Some(t0)
+        };
+        let mut best: Option<(u32, f32)> = None;
+        let mut best_t = max_t;
+        let mut stack = [(0u32, 0f32); STACK];
+        let t_root = enter(&self.nodes[0].bounds, best_t)?;
+        stack[0] = (0, t_root);
+        let mut sp = 1;
+        while sp > 0 {
+            sp -= 1;
+            let (n, t) = stack[sp];
+            if t > best_t {
+                continue;
+            }
+            let node = self.nodes[n as usize];
+            if node.count > 0 {
+                let r = node.start as usize..(node.start + node.count) as usize;
+                for &i in &self.prims[r] {
+                    if let Some(ti) = hit(i) {
+                        if (0.0..=best_t).contains(&ti) && best.is_none_or(|(_, bt)| ti < bt) {
+                            best_t = ti;
+                            best = Some((i, ti));
+                        }
+                    }
+                }
+            } else if sp + 2 <= STACK {
+                let l = node.start;
+                let tl = enter(&self.nodes[l as usize].bounds, best_t);
+                let tr = enter(&self.nodes[l as usize + 1].bounds, best_t);
+                // Push the farther child first so the nearer one is visited first.
+                let mut push = |c: u32, t: Option<f32>| {
+                    if let Some(t) = t {
+                        stack[sp] = (c, t);
+                        sp += 1;
+                    }
+                };
+                if tl.unwrap_or(f32::INFINITY) <= tr.unwrap_or(f32::INFINITY) {
+                    push(l + 1, tr);
+                    push(l, tl);
+                } else {
+                    push(l, tl);
+                    push(l + 1, tr);
+                }
+            }
+        }
+        best
+    }
 }

@@ -76,6 +76,42 @@ impl MeshIndex {
         true
     }
 
+    /// Rebuilds the index over `mesh` in place, reusing its buffers and `boxes` (scratch),
+    /// so that rebuilding every frame for a moving mesh allocates nothing once they are
+    /// large enough. Unlike [`Self::refit`], the tree is the one [`Self::build`] makes for
+    /// the current positions (queries give the same bits as a fresh index).
+    pub fn rebuild(&mut self, mesh: &Mesh, boxes: &mut Vec<Aabb>) {
+        boxes.clear();
+        boxes.extend((0..mesh.triangles.len() as u32).map(|t| tri_box(mesh, t)));
+        self.bvh.rebuild(boxes);
+        self.vertex_count = mesh.positions.len();
+        self.triangle_count = mesh.triangles.len();
+    }
+
+    /// The first point where the ray `origin + t·dir`, `t ∈ [0, max_t]`, meets the surface
+    /// (either side of a triangle); `distance` is `t·|dir|`. `None` when nothing is hit, the
+    /// mesh does not match the index, or the ray is not finite.
+    pub fn raycast(&self, mesh: &Mesh, origin: Vec3, dir: Vec3, max_t: f32) -> Option<SurfaceHit> {
+        if !self.matches(mesh) || !origin.is_finite() || !dir.is_finite() || dir == Vec3::ZERO {
+            return None;
+        }
+        let (o, d) = (Vec3A::from(origin), Vec3A::from(dir));
+        let (t, tn) = self.bvh.ray_nearest(o, d, max_t, |t| {
+            let [a, b, c] = corners(mesh, t)?;
+            ray_triangle(o, d, a, b, c).map(|(tn, _)| tn)
+        })?;
+        let [a, b, c] = corners(mesh, t)?;
+        let (_, bary) = ray_triangle(o, d, a, b, c)?;
+        Some(SurfaceHit {
+            position: (o + d * tn).into(),
+            normal: interpolated_normal(mesh, t, bary),
+            uv: interpolated_uv(mesh, t, bary),
+            triangle: t,
+            barycentric: bary,
+            distance: tn * dir.length(),
+        })
+    }
+
     /// The closest surface point to `p`; `None` when the mesh has no valid triangle, does
     /// not match the index, or `p` is not finite.
     pub fn closest_point(&self, mesh: &Mesh, p: Vec3) -> Option<SurfaceHit> {
@@ -162,6 +198,31 @@ fn safe_div(a: f32, b: f32) -> f32 {
     } else {
         0.0
     }
+}
+
+/// Where the ray `o + t·d` crosses triangle `abc` (either side): `(t, barycentric weights)`,
+/// `None` when it misses or runs parallel to the triangle's plane. Möller & Trumbore, *Fast,
+/// minimum storage ray/triangle intersection* (1997); edges count as inside.
+pub fn ray_triangle(o: Vec3A, d: Vec3A, a: Vec3A, b: Vec3A, c: Vec3A) -> Option<(f32, Vec3)> {
+    let (e1, e2) = (b - a, c - a);
+    let pv = d.cross(e2);
+    let det = e1.dot(pv);
+    if det.abs() <= f32::EPSILON * e1.length() * e2.length() * d.length() {
+        return None;
+    }
+    let inv = 1.0 / det;
+    let tv = o - a;
+    let u = tv.dot(pv) * inv;
+    if !(0.0..=1.0).contains(&u) {
+        return None;
+    }
+    let qv = tv.cross(e1);
+    let v = d.dot(qv) * inv;
+    if v < 0.0 || u + v > 1.0 {
+        return None;
+    }
+    let t = e2.dot(qv) * inv;
+    t.is_finite().then_some((t, Vec3::new(1.0 - u - v, u, v)))
 }
 
 /// Closest point to `p` on triangle `abc` and its barycentric weights `(wa, wb, wc)`.
@@ -271,3 +332,7 @@ mod tests {
         }
     }
 }
+
+#[cfg(test)]
+#[path = "tests_raycast.rs"]
+mod tests_raycast;

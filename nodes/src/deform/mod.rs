@@ -26,6 +26,7 @@
 //! | [`mesh_nodes`] | `polyCube`, `polySphere`, `polyCylinder`, `polyPlane`, `polyCapsule`, `mesh` |
 //! | [`skin_cluster`] | `skinCluster` (palette output for engines, precomputed weights) |
 //! | [`blend_shape_node`] | `blendShape` (sparse targets, in-betweens, weight maps) |
+//! | [`blend_shape_tangent`] | tangent-space blendShape targets (`postDeformersMode`) |
 //! | [`pose_reader_node`] | `poseReader` (drives correctives) |
 //! | [`follicle`] | `follicle`, `closestPointOnMesh` |
 //! | [`bind`] | `bind_skin`, `smooth_bind`, `create_closest_follicle` |
@@ -38,6 +39,7 @@
 pub mod bind;
 pub mod blend_shape;
 pub mod blend_shape_node;
+pub mod blend_shape_tangent;
 pub mod bvh;
 pub mod closest_point;
 pub mod dual_quat;

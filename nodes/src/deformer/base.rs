@@ -147,6 +147,20 @@ impl Affine {
         ])
     }
 
+    /// The 12 numbers: the `x`, `y`, `z` columns, then the translation.
+    pub fn to_array(&self) -> [f32; 12] {
+        self.0
+    }
+
+    /// The linear part and the translation, in `f64`.
+    pub fn linear_translation(&self) -> (glam::DMat3, glam::DVec3) {
+        let m = self.0.map(f64::from);
+        (
+            glam::DMat3::from_cols_array(&[m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8]]),
+            glam::DVec3::new(m[9], m[10], m[11]),
+        )
+    }
+
     /// `m · p`.
     #[inline(always)]
     pub fn apply(&self, p: Vec3) -> Vec3 {
@@ -221,10 +235,44 @@ fn dense<F: PointMap>(input: &[Vec3], out: &mut [Vec3], envelope: f32, f: &F) {
     }
 }
 
+/// [`dense`] with AVX2: the same operations, with the points transposed to and from one
+/// array per coordinate in registers ([`super::simd`]).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn dense_avx2<F: PointMap>(input: &[Vec3], out: &mut [Vec3], envelope: f32, f: &F) {
-    dense(input, out, envelope, f)
+    use std::arch::x86_64::*;
+    let n = input.len().min(out.len());
+    let (input, out) = (&input[..n], &mut out[..n]);
+    let env = _mm256_set1_ps(envelope);
+    let mut v = 0;
+    for (ci, co) in input.chunks_exact(LANES).zip(out.chunks_exact_mut(LANES)) {
+        let p = super::simd::load8(ci);
+        let mut b: Block = [[0.0; LANES]; 3];
+        for (lane, r) in b.iter_mut().zip(p) {
+            _mm256_storeu_ps(lane.as_mut_ptr(), r);
+        }
+        #[allow(clippy::needless_range_loop)] // one lane of each of the three arrays
+        for i in 0..LANES {
+            let d = f.map(v + i, Vec3::new(b[0][i], b[1][i], b[2][i]));
+            (b[0][i], b[1][i], b[2][i]) = (d.x, d.y, d.z);
+        }
+        let mut d = [
+            _mm256_loadu_ps(b[0].as_ptr()),
+            _mm256_loadu_ps(b[1].as_ptr()),
+            _mm256_loadu_ps(b[2].as_ptr()),
+        ];
+        if envelope != 1.0 {
+            for (d, p) in d.iter_mut().zip(p) {
+                *d = _mm256_add_ps(p, _mm256_mul_ps(_mm256_sub_ps(*d, p), env));
+            }
+        }
+        super::simd::store8(co, d);
+        v += LANES;
+    }
+    for (i, (o, &p)) in out[v..].iter_mut().zip(&input[v..]).enumerate() {
+        let d = f.map(v + i, p);
+        *o = if envelope == 1.0 { d } else { p + (d - p) * envelope };
+    }
 }
 
 /// Runs `f` (the full deformation of vertex `v` at `p`) over the active vertices:
@@ -302,6 +350,8 @@ fn dense_blocks<B: BlockMap, F: PointMap>(input: &[Vec3], out: &mut [Vec3], enve
     }
 }
 
+/// [`dense_blocks`] with AVX2: the same operations, with the points transposed to and from
+/// the [`Block`] in registers ([`super::simd`]).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn dense_blocks_avx2<B: BlockMap, F: PointMap>(
@@ -311,7 +361,36 @@ unsafe fn dense_blocks_avx2<B: BlockMap, F: PointMap>(
     block: &B,
     f: &F,
 ) {
-    dense_blocks(input, out, envelope, block, f)
+    use std::arch::x86_64::*;
+    let n = input.len().min(out.len());
+    let (input, out) = (&input[..n], &mut out[..n]);
+    let env = _mm256_set1_ps(envelope);
+    let mut v = 0;
+    for (ci, co) in input.chunks_exact(LANES).zip(out.chunks_exact_mut(LANES)) {
+        let p = super::simd::load8(ci);
+        let mut b: Block = [[0.0; LANES]; 3];
+        for (lane, r) in b.iter_mut().zip(p) {
+            _mm256_storeu_ps(lane.as_mut_ptr(), r);
+        }
+        block.map_block(&mut b);
+        let mut d = [
+            _mm256_loadu_ps(b[0].as_ptr()),
+            _mm256_loadu_ps(b[1].as_ptr()),
+            _mm256_loadu_ps(b[2].as_ptr()),
+        ];
+        if envelope != 1.0 {
+            for (d, p) in d.iter_mut().zip(p) {
+                // p + (d − p)·envelope, as the portable loop.
+                *d = _mm256_add_ps(p, _mm256_mul_ps(_mm256_sub_ps(*d, p), env));
+            }
+        }
+        super::simd::store8(co, d);
+        v += LANES;
+    }
+    for (i, (o, &p)) in out[v..].iter_mut().zip(&input[v..]).enumerate() {
+        let d = f.map(v + i, p);
+        *o = if envelope == 1.0 { d } else { p + (d - p) * envelope };
+    }
 }
 
 /// [`deform_points`] for kernels written per block of [`LANES`] vertices: `block` deforms a

@@ -9,6 +9,7 @@
 //! | [`base`] | [`base::DeformerAttrs`], [`base::Membership`], [`base::Deformer`], [`base::DeformerNode`] |
 //! | [`topology`] | vertex adjacency, border vertices, geodesic (edge) distances |
 //! | [`fastmath`] | branch-free `sin`/`cos` for per-vertex kernels |
+//! | `simd` | AVX2 transposes of eight points for the dense loops (x86-64) |
 //!
 //! A deformer family (`cluster/`, `nonlinear/`, `lattice/`, `wire/`, `mush/`, `wrap/`)
 //! implements [`base::Deformer`] and registers `DeformerNode::<TheDeformer>::new(name, doc)`.
@@ -16,6 +17,8 @@
 
 pub mod base;
 pub mod fastmath;
+#[cfg(target_arch = "x86_64")]
+pub mod simd;
 pub mod topology;
 
 #[cfg(test)]

@@ -120,6 +120,7 @@ pub mod nodes_rp;
 pub mod nodes_sc;
 pub mod nodes_spline;
 mod rest_memo;
+pub mod sc_orient;
 pub mod snap;
 pub mod soft;
 pub mod spline;
@@ -144,6 +145,8 @@ pub(crate) mod tests_nodes_robust;
 mod tests_nodes_spline;
 #[cfg(test)]
 mod tests_props;
+#[cfg(test)]
+mod tests_sc_orient;
 #[cfg(test)]
 mod tests_shortcuts;
 #[cfg(test)]

@@ -16,7 +16,7 @@ pub const MAX_ITERATIONS_CAP: i64 = 100_000;
 /// The goal, stretch, soft-IK and iteration inputs of `ikRP` and `ikSC`.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct GoalInputs {
-    goal_matrix: Input<DMat4>,
+    pub(super) goal_matrix: Input<DMat4>,
     stretch: Input<bool>,
     max_stretch: Input<f64>,
     soft: Input<f64>,

@@ -1,11 +1,13 @@
 //! The `ikSC` node: single-chain position IK for chains of any length (FABRIK or CCD).
 
+use glam::{DMat4, DQuat};
 use sinew_core::{ComputeContext, ComputeError, Input, NodeSpec, NodeType, SpecError};
 
 use super::iterative::{solve_sc, IterMethod};
 use super::node_chain::{ChainInputs, ChainOutputs, ErrorKind};
 use super::node_scratch::{with_node_scratch, NodeScratch};
 use super::nodes_rp::{solve_and_write, GoalInputs};
+use super::sc_orient::roll_to_goal_orientation;
 
 /// Choices of the `solver` enum, by index.
 pub const SOLVER_CHOICES: [&str; 2] = ["fabrik", "ccd"];
@@ -16,11 +18,19 @@ pub const SOLVER_CHOICES: [&str; 2] = ["fabrik", "ccd"];
 /// deltas from the preferred pose. `solver` picks FABRIK (default) or CCD; both stop at
 /// `tolerance` or `maxIterations`. Unreachable goals give a straight chain pointing at
 /// the goal (status 1). Needs at least 2 joints.
+///
+/// `orientToGoal` (off by default) adds Maya's orientation step: after the position solve
+/// the chain rolls about the start→end line so that the effector — the end joint's
+/// parent's frame times the rotation of `effectorOffset` — turns as close as possible to
+/// the rotation of `goalMatrix` (see [`super::sc_orient`]). The Maya importer turns it on
+/// for ikSCsolver handles, so rotating the handle rolls the chain as in Maya.
 pub struct IkSc {
     spec: NodeSpec,
     chain: ChainInputs,
     goal: GoalInputs,
     solver: Input<i64>,
+    orient: Input<bool>,
+    effector_offset: Input<DMat4>,
     outputs: ChainOutputs,
 }
 
@@ -36,12 +46,24 @@ impl IkSc {
             solver,
             "fabrik (default: fast, no twist drift) or ccd (curls from the tip)",
         );
+        let orient = b.input("orientToGoal", false);
+        b.attr_doc(
+            orient,
+            "when on, the chain also rolls about the start-to-end line toward goalMatrix's rotation (Maya's ikSCsolver)",
+        );
+        let effector_offset = b.input("effectorOffset", DMat4::IDENTITY);
+        b.attr_doc(
+            effector_offset,
+            "the effector's rotation relative to the end joint's parent (orientToGoal; identity by default)",
+        );
         let outputs = ChainOutputs::declare(&mut b, ErrorKind::EndToGoal);
         Ok(IkSc {
             spec: b.build()?,
             chain,
             goal,
             solver,
+            orient,
+            effector_offset,
             outputs,
         })
     }
@@ -79,8 +101,19 @@ impl IkSc {
                 )))
             }
         };
+        let orient = ctx.get(self.orient).then(|| {
+            let offset = ctx.with_ref(self.effector_offset, |m| {
+                let (_, r, _) = m.to_scale_rotation_translation();
+                r
+            });
+            (ctx.with_ref(self.goal.goal_matrix, |m| *m), offset)
+        });
         solve_and_write(ctx, &self.outputs, ns, &goal, None, |chain, _, _, out| {
             *out = solve_sc(chain, goal.goal, &goal.iter, &goal.reach);
+            if let Some((goal_matrix, offset)) = orient {
+                let offset: DQuat = if offset.is_finite() { offset } else { DQuat::IDENTITY };
+                roll_to_goal_orientation(chain, out, &goal_matrix, offset);
+            }
         });
         Ok(())
     }

@@ -4,10 +4,12 @@
 //! | module | what it is for |
 //! | --- | --- |
 //! | [`ffd`] | the Bernstein evaluation (global and local windows), pure math |
+//! | [`power`] | the same polynomial in centred power form, prepared per frame (the fast path) |
 //! | [`nodes`] | `lattice` (shape) and `ffd` (deformer) |
 
 pub mod ffd;
 pub mod nodes;
+pub mod power;
 
 #[cfg(test)]
 mod tests;

@@ -20,6 +20,7 @@
 //! `falloff`: outside vertices within `outsideFalloffDist` of the lattice move by the
 //! deformation at the nearest lattice point, faded linearly to 0 at that distance.
 
+use std::cell::RefCell;
 use std::sync::Arc;
 
 use glam::{DMat4, Mat4, Vec3};
@@ -28,6 +29,7 @@ use sinew_core::{
 };
 
 use super::ffd::{evaluate, evaluate_lanes, Lattice, MAX_DIVISIONS, MAX_LANE_DIVISIONS};
+use super::power::{inside, PowerLattice};
 use crate::deformer::base::{
     deform_blocks, deform_map, deform_points, finite, finite_matrix, inverse, Affine, Block, BlockMap, Deformer,
     DeformerAttrs, Job, PointMap, LANES,
@@ -134,11 +136,6 @@ struct FfdBlock<'a> {
     all: bool,
 }
 
-#[inline(always)]
-fn inside(stu: Vec3) -> bool {
-    stu.cmpge(Vec3::ZERO).all() && stu.cmple(Vec3::ONE).all()
-}
-
 impl BlockMap for FfdBlock<'_> {
     #[inline(always)]
     fn map_block(&self, b: &mut Block) {
@@ -180,6 +177,47 @@ impl PointMap for FfdBlock<'_> {
             p
         }
     }
+}
+
+/// The ffd kernel of the `inside` and `all` modes on the lattice's power form (the fast path:
+/// see [`super::power`]), per block and per point (the same operations, so both paths give the
+/// same bits).
+struct FfdPower<'a> {
+    power: &'a PowerLattice,
+    to: Affine,
+    /// `all`: vertices outside the base lattice move too (the polynomial extended).
+    all: bool,
+}
+
+impl BlockMap for FfdPower<'_> {
+    #[inline(always)]
+    fn map_block(&self, b: &mut Block) {
+        if !self.power.block(&self.to, self.all, b) {
+            // Local mode with the block across windows: point by point.
+            #[allow(clippy::needless_range_loop)] // one lane of each of the three arrays
+            for q in 0..LANES {
+                let o = self.map(0, Vec3::new(b[0][q], b[1][q], b[2][q]));
+                (b[0][q], b[1][q], b[2][q]) = (o.x, o.y, o.z);
+            }
+        }
+    }
+}
+
+impl PointMap for FfdPower<'_> {
+    #[inline(always)]
+    fn map(&self, _: usize, p: Vec3) -> Vec3 {
+        let stu = self.to.apply(p) + 0.5;
+        if self.all || inside(stu) {
+            self.power.point(stu)
+        } else {
+            p
+        }
+    }
+}
+
+thread_local! {
+    /// The power form of the lattice being deformed (its buffers reused frame to frame).
+    static POWER: RefCell<PowerLattice> = RefCell::new(PowerLattice::default());
 }
 
 /// The `ffd` deformer.
@@ -233,8 +271,12 @@ impl Deformer for Ffd {
             .attr_doc(outside, "inside: only vertices in the lattice move; all; falloff")
             .attr_doc(falloff, "falloff distance outside the lattice (base lattice units)")
             .attr_doc(geom, "the deformed mesh's world matrix");
-        // Maya's short names (node reference, Nodes/ffd.html). outsideLattice and
-        // outsideFalloffDist have none here: the stored pages did not show theirs.
+        // Maya's short names (node reference, Nodes/ffd.html). outsideLattice `ot`: the
+        // stored reference pages stop before it; Maya-written scene files set `setAttr ".ot"
+        // 1` on ffd nodes (Maya writes only non-default values: outsideLattice's default is
+        // 0, outsideFalloffDist's 1, so `.ot` 1 is outsideLattice = all). outsideFalloffDist
+        // has none here: its short name was found in neither.
+        s.short_name(outside, "ot");
         s.short_name(points, "dlp")
             .short_name(deformed, "dlm")
             .short_name(base, "blm")
@@ -327,6 +369,19 @@ impl Deformer for Ffd {
                 }
                 let moved = back.apply(stu - 0.5 + (evaluate(lattice, c, local) - (c - 0.5)));
                 p + (moved - p) * (1.0 - dist / d)
+            });
+            return Ok(());
+        }
+        if PowerLattice::fits(lattice, local) {
+            POWER.with(|cell| {
+                let mut power = cell.borrow_mut();
+                power.prepare(lattice, local, &back);
+                let block = FfdPower {
+                    power: &power,
+                    to,
+                    all: f.outside == 1,
+                };
+                deform_blocks(pos, out, m, env, &block, &block);
             });
             return Ok(());
         }

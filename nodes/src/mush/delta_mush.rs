@@ -23,8 +23,9 @@
 //! restored offsets along the mesh's object axes, `out = S(D) + scale ⊙ displacement ·
 //! F_S(D)·d`; Maya's reference lists `scale` without a formula, this reading is sinew's),
 //! `bindCache` (object output: the bind data, rebuilt when the rest mesh or smoothing
-//! settings change). Not implemented: Maya's `smoothingAlgorithm` (the reference at hand
-//! lists the attribute but not its choices; sinew smooths as described above).
+//! settings change). Not implemented: Maya's `smoothingAlgorithm` (Maya's node reference
+//! lists the attribute, and a hidden `cacheSmoothingAlgorithm` of type short, default 0, but
+//! no stored reference page gives its choices or default; sinew smooths as described above).
 
 use std::cell::RefCell;
 use std::sync::Arc;
@@ -239,6 +240,11 @@ impl Deformer for DeltaMush {
             )
             .attr_doc(scale, "scales the restored offsets along the object axes")
             .attr_doc(bind, "bind data (MushBind)");
+        // Maya's short name for smoothingIterations, `si`: the stored deltaMush reference
+        // pages stop before it (they show cacheSmoothingIterations `csi`); Maya-written scene
+        // files set it as `setAttr ".si" 1` on deltaMush nodes. The other attributes' short
+        // names were found in neither, so they have none.
+        s.short_name(iterations, "si");
         s.affects(
             &[
                 original.id(),

@@ -39,7 +39,7 @@
 
 use glam::Vec3;
 
-use crate::deformer::fastmath::{sin_cos, sin_cos_near_zero};
+use crate::deformer::fastmath::{cos_half_turn, sin_cos, sin_cos_near_zero};
 
 /// A nonLinear function with its parameters (checked and converted once per frame).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -383,24 +383,21 @@ impl PointFn for SquashFn {
         let u = (t - m) * if t < m { inv_m } else { inv_1m };
         let (sm, sm1_sq, e, k) = if u < 0.0 { start } else { end };
         let h = k * ((sm1_sq - u * u).max(0.0).sqrt() - e);
-        let (_, c) = sin_cos(u * std::f32::consts::FRAC_PI_2);
+        // u ∈ [−1, 1]: the angle is within a quarter turn, no range reduction needed.
+        let c = cos_half_turn(u * std::f32::consts::FRAC_PI_2);
         let scale = root_f * (c * c * sm + h) + 1.0;
         let scale = if scale.abs() < 1e-6 {
             1e-6f32.copysign(scale)
         } else {
             scale
         };
-        let inv = 1.0 / scale;
-        let inside = Vec3::new(p.x * inv, p.y * f, p.z * inv);
-        let below = Vec3::new(p.x, p.y + (f - 1.0) * lb, p.z);
-        let above = Vec3::new(p.x, p.y + (f - 1.0) * hb, p.z);
-        if p.y <= lb {
-            below
-        } else if p.y >= hb {
-            above
-        } else {
-            inside
-        }
+        // Outside the bounds x and z are multiplied by exactly 1 (unchanged) and y shifts by
+        // (f − 1)·bound; two selects instead of one per coordinate and case.
+        let within = p.y > lb && p.y < hb;
+        let k = if within { 1.0 / scale } else { 1.0 };
+        let bound = if p.y <= lb { lb } else { hb };
+        let y = if within { p.y * f } else { p.y + (f - 1.0) * bound };
+        Vec3::new(p.x * k, y, p.z * k)
     }
 }
 
@@ -481,13 +478,21 @@ impl SineFn {
     }
 }
 
+impl SineFn {
+    /// How far a point at handle-space height `y` moves along the handle's X axis.
+    #[inline(always)]
+    pub fn shift(&self, y: f32) -> f32 {
+        let yc = y.max(self.lb).min(self.hb);
+        let (s, _) = sin_cos(self.freq * (yc + self.offset));
+        let tau = (yc.abs() * if yc >= 0.0 { self.inv_hb } else { self.inv_lb }).min(1.0);
+        self.amplitude * dropoff(self.drop, tau) * s
+    }
+}
+
 impl PointFn for SineFn {
     #[inline(always)]
     fn apply(&self, p: Vec3) -> Vec3 {
-        let yc = p.y.max(self.lb).min(self.hb);
-        let (s, _) = sin_cos(self.freq * (yc + self.offset));
-        let tau = (yc.abs() * if yc >= 0.0 { self.inv_hb } else { self.inv_lb }).min(1.0);
-        Vec3::new(p.x + self.amplitude * dropoff(self.drop, tau) * s, p.y, p.z)
+        Vec3::new(p.x + self.shift(p.y), p.y, p.z)
     }
 }
 

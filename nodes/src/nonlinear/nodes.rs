@@ -372,7 +372,18 @@ impl Deformer for NonLinear {
                 wavelength,
                 offset,
                 dropoff,
-            } => run!(SineFn::new(lb, hb, amplitude, tau / wavelength, offset, dropoff)),
+            } => {
+                // The sine moves points along the handle's X axis by an amount that depends on
+                // their handle-space height only: `p + X · shift(y)` (X the handle's X axis in
+                // object space) rather than a round trip through handle space.
+                let (t, b) = (f.to.to_cols_array(), f.back.to_cols_array());
+                let map = AlongX {
+                    height: [t[1], t[5], t[9], t[13]],
+                    axis: Vec3::new(b[0], b[1], b[2]),
+                    f: SineFn::new(lb, hb, amplitude, tau / wavelength, offset, dropoff),
+                };
+                deform_map(pos, out, m, env, &map)
+            }
             Func::Wave {
                 r0,
                 r1,
@@ -415,6 +426,22 @@ impl<F: PointFn> PointMap for InHandle<F> {
     #[inline(always)]
     fn map(&self, _: usize, p: Vec3) -> Vec3 {
         self.back.apply(self.f.apply(self.to.apply(p)))
+    }
+}
+
+/// The sine as a point map: the handle-space height of a point (a row of `to`) gives its
+/// shift along the handle's X axis in object space (`axis`, the first column of `back`).
+struct AlongX {
+    height: [f32; 4],
+    axis: Vec3,
+    f: SineFn,
+}
+
+impl PointMap for AlongX {
+    #[inline(always)]
+    fn map(&self, _: usize, p: Vec3) -> Vec3 {
+        let h = &self.height;
+        p + self.axis * self.f.shift(h[0] * p.x + h[1] * p.y + h[2] * p.z + h[3])
     }
 }
 

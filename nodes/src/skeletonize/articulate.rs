@@ -181,7 +181,9 @@ fn stations_of(tree: &Tree, b: usize, params: &JointParams) -> Vec<f64> {
     // The first point is a junction, often where bands meet the body's surface: the
     // body's radius there is the one to compare a limb's thinning with.
     radius[0] = radius[0].max(br.start_radius);
-    let mean_r = br.mean_radius().max(1e-12);
+    // Floors relative to the branch's length: the unit of the mesh is arbitrary.
+    let tiny = 1e-12 * len;
+    let mean_r = br.mean_radius().max(tiny);
     // Joints keep apart by a twentieth of the limb or half the radius there.
     let gap_at = |s: f64| (0.05 * len).max(0.5 * radius[index_at(&cum, s)]).min(0.3 * len);
     let mut fixed = vec![len];
@@ -249,7 +251,7 @@ fn stations_of(tree: &Tree, b: usize, params: &JointParams) -> Vec<f64> {
         }
     }
     chosen.sort_by(f64::total_cmp);
-    chosen.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
+    chosen.dedup_by(|a, b| (*a - *b).abs() < tiny);
     keep_bones_inside(&br.points, &radius, &cum, &mut chosen, if limb { lo } else { 0.0 });
     chosen
 }
@@ -268,7 +270,7 @@ fn keep_bones_inside(points: &[DVec3], radius: &[f64], cum: &[f64], chosen: &mut
                     continue;
                 }
                 let d = segment_distance(points[k], pa, pb);
-                let excess = d - 0.75 * radius[k].max(1e-12);
+                let excess = d - 0.75 * radius[k].max(1e-12 * cum[cum.len() - 1]);
                 if excess > 0.0 && worst.is_none_or(|w| excess > w.1) {
                     worst = Some((s, excess));
                 }

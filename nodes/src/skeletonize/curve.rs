@@ -417,7 +417,7 @@ impl CurveGraph {
             }
             let chain = self.walk(p, self.adj[p as usize][0]);
             let tip = self.points[p as usize];
-            let want = 2.0 * self.local_radius(p, p, 4).max(1e-12);
+            let want = 2.0 * self.local_radius(p, p, 4).max(f64::MIN_POSITIVE);
             let mut from = chain[chain.len() - 1];
             let mut run = 0.0;
             for w in chain.windows(2) {

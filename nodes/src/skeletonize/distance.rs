@@ -2,7 +2,8 @@
 //! distance (in cells) from its centre to the nearest outside cell's centre, by the
 //! separable lower-envelope-of-parabolas algorithm of Felzenszwalb & Huttenlocher
 //! ("Distance Transforms of Sampled Functions", Theory of Computing 8, 2012): one
-//! linear pass along each axis. Lines with no inside cell are skipped.
+//! linear pass along each axis. Lines with no inside cell are skipped, and each other
+//! line is transformed only from just before its first inside cell to just after its last.
 //!
 //! The surface passes through the solid's outermost (shell) cells, so it lies about a
 //! cell inside the nearest outside cell's centre: the local radius at a cell is about
@@ -30,17 +31,24 @@ pub fn squared_distances(grid: &Grid, inside: &[bool]) -> Vec<f32> {
         for ib in 0..grid.dims[b] {
             for ia in 0..grid.dims[a] {
                 let base = ia * strides[a] + ib * strides[b];
-                let mut any = false;
-                for (q, x) in line[..len].iter_mut().enumerate() {
-                    *x = d[base + q * stride];
-                    any |= *x > 0.0;
-                }
-                if !any {
+                // Only the stretch from the cell before the first inside cell to the
+                // cell after the last one changes: the outside cells around it are
+                // zeros (sources) nearer than any beyond them.
+                let Some(first) = (0..len).find(|&q| d[base + q * stride] > 0.0) else {
                     continue;
+                };
+                let last = (first..len)
+                    .rev()
+                    .find(|&q| d[base + q * stride] > 0.0)
+                    .unwrap_or(first);
+                let (from, to) = (first.saturating_sub(1), (last + 2).min(len));
+                let span = to - from;
+                for (q, x) in line[..span].iter_mut().enumerate() {
+                    *x = d[base + (from + q) * stride];
                 }
-                envelope(&line[..len], &mut out[..len], &mut v, &mut z);
-                for (q, x) in out[..len].iter().enumerate() {
-                    d[base + q * stride] = *x;
+                envelope(&line[..span], &mut out[..span], &mut v, &mut z);
+                for (q, x) in out[..span].iter().enumerate() {
+                    d[base + (from + q) * stride] = *x;
                 }
             }
         }

@@ -18,8 +18,6 @@
 //! factorisation fails. Non-manifold edges need no fallback: the Laplacian is a sum
 //! over triangles and stays well-defined there.
 
-use std::collections::HashMap;
-
 use faer::linalg::solvers::Solve;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Mat, Side};
@@ -126,20 +124,15 @@ pub fn bone_heat_weights_with_report(
     let (lo, hi) = pos.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(l, h), p| {
         (l.min(*p), h.max(*p))
     });
-    let extent = (hi - lo).length().max(1e-12);
-    // Weld coincident vertices.
-    let cell = extent * 1e-7;
-    let mut weld = vec![0u32; n];
-    let mut map: HashMap<[i64; 3], u32> = HashMap::with_capacity(n);
-    let mut wpos: Vec<DVec3> = Vec::new();
-    for (v, p) in pos.iter().enumerate() {
-        let q = (*p / cell).round();
-        let key = [q.x as i64, q.y as i64, q.z as i64];
-        weld[v] = *map.entry(key).or_insert_with(|| {
-            wpos.push(*p);
-            (wpos.len() - 1) as u32
-        });
-    }
+    // The mesh's size sets every length tolerance below (the unit is arbitrary); a
+    // mesh of one point gets 1.
+    let extent = (hi - lo).length();
+    let extent = if extent > 0.0 && extent.is_finite() {
+        extent
+    } else {
+        1.0
+    };
+    let (weld, wpos) = weld_vertices(&pos, extent * 1e-7);
     let m = wpos.len();
     // Laplacian (lower triangle, off-diagonal), diagonal and vertex areas.
     let mut off: Vec<(u32, u32, f64)> = Vec::with_capacity(mesh.triangles.len() * 3);
@@ -179,7 +172,7 @@ pub fn bone_heat_weights_with_report(
         .map(|b| b.a.distance(b.b))
         .fold(0.0, f64::max)
         .max(extent * 1e-3);
-    let nearest: Vec<(f64, Vec<u32>)> = wpos.par_iter().map(|p| nearest_bones(*p, &bones)).collect();
+    let nearest = Nearest::of_all(&wpos, &bones, extent * 1e-12);
     let mut sys = vec![u32::MAX; m];
     let mut count = 0usize;
     for v in 0..m {
@@ -216,10 +209,10 @@ pub fn bone_heat_weights_with_report(
     let solved = solution.is_some();
     let lists: Vec<(Vec<(u32, f32)>, bool)> = (0..n)
         .into_par_iter()
-        .map(|v| {
+        .map_init(Vec::new, |acc: &mut Vec<(u32, f64)>, v| {
             let wv = weld[v] as usize;
             let s = sys[wv];
-            let mut acc: Vec<(u32, f64)> = Vec::with_capacity(bones.len().min(8));
+            acc.clear();
             let mut add = |j: u32, x: f64| {
                 if x > 0.0 && x.is_finite() {
                     match acc.iter_mut().find(|e| e.0 == j) {
@@ -243,8 +236,8 @@ pub fn bone_heat_weights_with_report(
                     }
                 }
             }
-            let nearest_joint = nearest[wv]
-                .1
+            let nearest_joint = nearest
+                .ids(wv)
                 .first()
                 .map_or(bones[0].joint, |&b| bones[b as usize].joint);
             (finish(acc, max_inf, params.min_weight, nearest_joint), fell_back)
@@ -262,15 +255,98 @@ pub fn bone_heat_weights_with_report(
     ))
 }
 
-/// Distance to the nearest bone and the bones within a hair of it.
-fn nearest_bones(p: DVec3, bones: &[Bone]) -> (f64, Vec<u32>) {
-    let d: Vec<f64> = bones.iter().map(|b| segment_distance(p, b.a, b.b)).collect();
-    let dmin = d.iter().copied().fold(f64::INFINITY, f64::min);
-    let tol = dmin * 1e-3 + 1e-12;
-    let ids = (0..bones.len() as u32)
-        .filter(|&b| d[b as usize] <= dmin + tol)
+/// Welds vertices that round to the same point of a lattice of spacing `cell`: the
+/// welded index of every vertex and the welded positions, numbered in the order of
+/// their first vertex (by sorting, not hashing: a hash map per vertex was a tenth of
+/// the weights' time on 200k vertices).
+fn weld_vertices(pos: &[DVec3], cell: f64) -> (Vec<u32>, Vec<DVec3>) {
+    let keys: Vec<[i64; 3]> = pos
+        .iter()
+        .map(|p| {
+            let q = (*p / cell).round();
+            [q.x as i64, q.y as i64, q.z as i64]
+        })
         .collect();
-    (dmin, ids)
+    let mut order: Vec<u32> = (0..pos.len() as u32).collect();
+    order.sort_unstable_by_key(|&v| (keys[v as usize], v));
+    // The first vertex of each run of equal keys stands for the run.
+    let mut first = vec![0u32; pos.len()];
+    let mut head = 0u32;
+    for (k, &v) in order.iter().enumerate() {
+        if k == 0 || keys[v as usize] != keys[order[k - 1] as usize] {
+            head = v;
+        }
+        first[v as usize] = head;
+    }
+    let mut weld = vec![0u32; pos.len()];
+    let mut wpos = Vec::new();
+    for v in 0..pos.len() {
+        let f = first[v] as usize;
+        if f == v {
+            weld[v] = wpos.len() as u32;
+            wpos.push(pos[v]);
+        } else {
+            weld[v] = weld[f];
+        }
+    }
+    (weld, wpos)
+}
+
+/// Per welded vertex, the distance to its nearest bone and the bones within a hair
+/// of it (ids of vertex `v`: `ids[start[v]..start[v + 1]]`), in flat arrays.
+struct Nearest {
+    dist: Vec<f64>,
+    start: Vec<usize>,
+    ids: Vec<u32>,
+}
+
+impl Nearest {
+    fn of_all(points: &[DVec3], bones: &[Bone], eps: f64) -> Nearest {
+        let chunks: Vec<(Vec<f64>, Vec<u32>, Vec<u32>)> = points
+            .par_chunks(4096)
+            .map(|chunk| {
+                let mut d = Vec::with_capacity(bones.len());
+                let (mut dist, mut counts, mut ids) = (Vec::with_capacity(chunk.len()), Vec::new(), Vec::new());
+                for &p in chunk {
+                    let before = ids.len();
+                    dist.push(nearest_bones(p, bones, eps, &mut d, &mut ids));
+                    counts.push((ids.len() - before) as u32);
+                }
+                (dist, counts, ids)
+            })
+            .collect();
+        let mut out = Nearest {
+            dist: Vec::with_capacity(points.len()),
+            start: Vec::with_capacity(points.len() + 1),
+            ids: Vec::new(),
+        };
+        out.start.push(0);
+        for (dist, counts, ids) in chunks {
+            out.dist.extend(dist);
+            for c in counts {
+                let last = out.start[out.start.len() - 1];
+                out.start.push(last + c as usize);
+            }
+            out.ids.extend(ids);
+        }
+        out
+    }
+
+    /// The nearest bones of welded vertex `v`.
+    fn ids(&self, v: usize) -> &[u32] {
+        &self.ids[self.start[v]..self.start[v + 1]]
+    }
+}
+
+/// Distance to the nearest bone; the bones within a hair of it (0.1% of it plus `eps`,
+/// a length relative to the mesh's size) are appended to `ids` (`d` is scratch space).
+fn nearest_bones(p: DVec3, bones: &[Bone], eps: f64, d: &mut Vec<f64>, ids: &mut Vec<u32>) -> f64 {
+    d.clear();
+    d.extend(bones.iter().map(|b| segment_distance(p, b.a, b.b)));
+    let dmin = d.iter().copied().fold(f64::INFINITY, f64::min);
+    let tol = dmin * 1e-3 + eps;
+    ids.extend((0..bones.len() as u32).filter(|&b| d[b as usize] <= dmin + tol));
+    dmin
 }
 
 /// Factorises `C + A H` once and solves for every column (bone `b` feeds column
@@ -282,7 +358,7 @@ fn solve(
     area: &[f64],
     sys: &[u32],
     count: usize,
-    nearest: &[(f64, Vec<u32>)],
+    nearest: &Nearest,
     column: &[usize],
     ncols: usize,
     heat: f64,
@@ -301,7 +377,7 @@ fn solve(
         if s == u32::MAX {
             continue;
         }
-        let (d, ids) = &nearest[v];
+        let (d, ids) = (nearest.dist[v], nearest.ids(v));
         let k = ids.len().max(1) as f64;
         let h = heat.max(1e-12) * k / d.max(min_dist).powi(2);
         let ah = area[v] * h;
@@ -322,7 +398,7 @@ fn solve(
 
 /// Keeps the `max_inf` largest influences above `min_weight` and normalises; a vertex
 /// left with nothing goes fully to `nearest_joint`.
-fn finish(mut acc: Vec<(u32, f64)>, max_inf: usize, min_weight: f32, nearest_joint: u32) -> Vec<(u32, f32)> {
+fn finish(acc: &mut Vec<(u32, f64)>, max_inf: usize, min_weight: f32, nearest_joint: u32) -> Vec<(u32, f32)> {
     acc.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
     acc.truncate(max_inf);
     let total: f64 = acc.iter().map(|e| e.1).sum();

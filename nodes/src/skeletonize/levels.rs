@@ -15,8 +15,6 @@
 //! with a bucket queue (Dial's algorithm; steps weigh 10, 14 and 17 for face, edge and
 //! corner neighbours, about 10 × their length), the clusters a union–find.
 
-use std::collections::HashMap;
-
 use glam::DVec3;
 
 use super::distance::radius_cells;
@@ -136,7 +134,16 @@ fn weighted(grid: &Grid) -> Vec<(isize, u32)> {
 pub fn level_graph(grid: &Grid, member: &[bool], d2: &[f32], cells: &[u32], seed: u32, band: f64) -> LevelGraph {
     let dist = geodesic(grid, member, seed);
     let width = ((band.max(1.8) * 10.0).round() as u32).max(18);
-    let band_of = |c: usize| dist[c] / width;
+    // Band of every reached cell of the component (`u32::MAX` elsewhere), so a
+    // neighbour's band is one load.
+    let mut band = vec![u32::MAX; grid.len()];
+    for &c in cells {
+        let d = dist[c as usize];
+        if d != u32::MAX {
+            band[c as usize] = d / width;
+        }
+    }
+    let band_of = |c: usize| band[c];
     // Union–find over the cells of the component, by position in `cells`.
     let mut slot = vec![u32::MAX; grid.len()];
     for (i, &c) in cells.iter().enumerate() {
@@ -152,7 +159,7 @@ pub fn level_graph(grid: &Grid, member: &[bool], d2: &[f32], cells: &[u32], seed
         let b = band_of(c);
         for &o in &forward {
             let m = (c as isize + o) as usize;
-            if member[m] && dist[m] != u32::MAX && band_of(m) == b {
+            if band[m] == b {
                 union(&mut parent, i as u32, slot[m]);
             }
         }
@@ -234,8 +241,14 @@ pub fn level_graph(grid: &Grid, member: &[bool], d2: &[f32], cells: &[u32], seed
             }
         }
     }
-    // Edges between touching clusters of consecutive bands.
-    let mut contacts: HashMap<(u32, u32), u32> = HashMap::new();
+    // Edges between touching clusters of consecutive bands: every touching cell pair
+    // as a key (smaller cluster in the high half), sorted, counted by runs.
+    // Neighbouring cells mostly give the pair just counted: runs are counted as they come.
+    // `slot` now holds each cell's cluster (`u32::MAX` off the component or unreached).
+    let mut pairs: Vec<(u64, u32)> = Vec::new();
+    for (i, &c) in cells.iter().enumerate() {
+        slot[c as usize] = cluster_of[i];
+    }
     for (i, &c) in cells.iter().enumerate() {
         let c = c as usize;
         let ka = cluster_of[i];
@@ -243,20 +256,25 @@ pub fn level_graph(grid: &Grid, member: &[bool], d2: &[f32], cells: &[u32], seed
             continue;
         }
         for &o in &forward {
-            let m = (c as isize + o) as usize;
-            if !member[m] {
-                continue;
-            }
-            let kb = cluster_of[slot[m] as usize];
+            let kb = slot[(c as isize + o) as usize];
             if kb == u32::MAX || kb == ka {
                 continue;
             }
-            let key = (ka.min(kb), ka.max(kb));
-            *contacts.entry(key).or_default() += 1;
+            let key = ((ka.min(kb) as u64) << 32) | ka.max(kb) as u64;
+            match pairs.last_mut() {
+                Some((k, n)) if *k == key => *n += 1,
+                _ => pairs.push((key, 1)),
+            }
         }
     }
-    let mut edges: Vec<(u32, u32, u32)> = contacts.into_iter().map(|((a, b), n)| (a, b, n)).collect();
-    edges.sort_unstable();
+    pairs.sort_unstable();
+    let edges: Vec<(u32, u32, u32)> = pairs
+        .chunk_by(|x, y| x.0 == y.0)
+        .map(|run| {
+            let n = run.iter().map(|p| p.1).sum();
+            ((run[0].0 >> 32) as u32, run[0].0 as u32, n)
+        })
+        .collect();
     LevelGraph {
         clusters,
         edges,

@@ -82,63 +82,86 @@ fn stays_inside(grid: &Grid, d2: &[f32], member: &[bool], a: DVec3, b: DVec3, ne
 
 /// The medial path from cell `from` to cell `to` over `member` cells within `margin`
 /// cells of their bounding box; `None` when `to` cannot be reached.
+///
+/// The search runs on the box's own indices, padded by a ring of blocked cells (cost
+/// −∞, never improved), so a step is one addition with no bounds test; box indices
+/// order like grid indices (both run x fastest, then y, then z), so the heap pops cells
+/// in the same order as on grid indices.
 fn medial_path(grid: &Grid, d2: &[f32], member: &[bool], from: usize, to: usize, margin: f64) -> Option<Vec<usize>> {
     let (ca, cb) = (grid.coords(from), grid.coords(to));
     let m = margin.ceil() as usize;
     let lo: [usize; 3] = std::array::from_fn(|k| ca[k].min(cb[k]).saturating_sub(m).max(1));
     let hi: [usize; 3] = std::array::from_fn(|k| (ca[k].max(cb[k]) + m).min(grid.dims[k] - 2));
-    let size: [usize; 3] = std::array::from_fn(|k| hi[k] - lo[k] + 1);
-    let local = |c: usize| -> Option<usize> {
-        let x = grid.coords(c);
-        (0..3)
-            .all(|k| x[k] >= lo[k] && x[k] <= hi[k])
-            .then(|| (x[0] - lo[0]) + size[0] * ((x[1] - lo[1]) + size[1] * (x[2] - lo[2])))
-    };
+    // The box plus one blocked cell on each side.
+    let size: [usize; 3] = std::array::from_fn(|k| hi[k] - lo[k] + 3);
+    let local = |x: [usize; 3]| (x[0] + 1 - lo[0]) + size[0] * ((x[1] + 1 - lo[1]) + size[1] * (x[2] + 1 - lo[2]));
     let n = size[0] * size[1] * size[2];
-    let mut cost = vec![f32::INFINITY; n];
-    let mut parent = vec![usize::MAX; n];
-    let offs = grid.neighbours();
-    let start = local(from)?;
+    let mut cost = vec![f32::NEG_INFINITY; n];
+    for k in 1..size[2] - 1 {
+        for j in 1..size[1] - 1 {
+            let row = size[0] * (j + size[1] * k);
+            cost[row + 1..row + size[0] - 1].fill(f32::INFINITY);
+        }
+    }
+    let mut parent = vec![u32::MAX; n];
+    let mut global = vec![0usize; n];
+    let (sx, sxy) = (size[0] as isize, (size[0] * size[1]) as isize);
+    // Grid offsets with their box offsets, in `Grid::neighbours`' order.
+    let mut offs = Vec::with_capacity(26);
+    let mut g = grid.neighbours().into_iter();
+    for dz in -1isize..=1 {
+        for dy in -1isize..=1 {
+            for dx in -1isize..=1 {
+                if dx != 0 || dy != 0 || dz != 0 {
+                    let (o, len) = g.next()?;
+                    offs.push((o, dx + dy * sx + dz * sxy, len as f32));
+                }
+            }
+        }
+    }
+    let (start, goal) = (local(ca), local(cb));
     cost[start] = 0.0;
+    global[start] = from;
     let mut heap = BinaryHeap::new();
-    heap.push(Reverse((0u32, from)));
-    while let Some(Reverse((bits, c))) = heap.pop() {
+    heap.push(Reverse((0u32, start as u32)));
+    while let Some(Reverse((bits, lc))) = heap.pop() {
         let d = f32::from_bits(bits);
-        let lc = local(c)?;
+        let lc = lc as usize;
         if d > cost[lc] {
             continue;
         }
-        if c == to {
+        if lc == goal {
             break;
         }
-        for &(o, len) in &offs {
+        let c = global[lc];
+        for &(o, step, len) in &offs {
+            let lm = (lc as isize + step) as usize;
             let m = (c as isize + o) as usize;
             if !member[m] {
                 continue;
             }
-            let Some(lm) = local(m) else { continue };
             let r2 = d2[m].max(0.25);
-            let nd = d + len as f32 / (r2 * r2);
+            let nd = d + len / (r2 * r2);
             if nd < cost[lm] {
                 cost[lm] = nd;
-                parent[lm] = c;
+                parent[lm] = lc as u32;
+                global[lm] = m;
                 // Non-negative floats order like their bit patterns.
-                heap.push(Reverse((nd.to_bits(), m)));
+                heap.push(Reverse((nd.to_bits(), lm as u32)));
             }
         }
     }
-    let lt = local(to)?;
-    if !cost[lt].is_finite() {
+    if !cost[goal].is_finite() {
         return None;
     }
     let mut path = vec![to];
-    let mut c = to;
-    while c != from {
-        c = parent[local(c)?];
-        if c == usize::MAX {
+    let mut l = goal;
+    while l != start {
+        l = parent[l] as usize;
+        if l == u32::MAX as usize {
             return None;
         }
-        path.push(c);
+        path.push(global[l]);
     }
     path.reverse();
     Some(path)

@@ -415,3 +415,70 @@ fn humanoid_weights_and_fallbacks() {
         Err(SkeletonizeError::EmptySkeleton)
     ));
 }
+
+/// The plus shape's closed-form answer at scale `s`: one junction of degree 4 at the
+/// origin, four arm ends at `s × (arm + radius)` on the axes.
+fn check_plus(sk: &Skeleton, s: f64, what: &str) {
+    check_parent_first(sk);
+    let j = junctions(sk);
+    assert_eq!(j.len(), 1, "{what}: {sk:?}");
+    assert_eq!(degree(sk, j[0]), 4, "{what}");
+    assert!(
+        sk.positions[j[0]].length() < 0.1 * s,
+        "{what}: junction at {}",
+        sk.positions[j[0]]
+    );
+    let t = terminals(sk);
+    assert_eq!(t.len(), 4, "{what}");
+    for &e in &t {
+        let p = sk.positions[e] / s;
+        assert!((p.length() - 1.15).abs() < 0.1, "{what}: arm end at {p} (× {s:e})");
+    }
+}
+
+#[test]
+fn huge_tiny_and_non_manifold_meshes_work() {
+    let p = SkeletonizeParams::default();
+    let plus = shapes::plus(1.0, 0.15, 16);
+    // Scale: nothing in the pipeline depends on the unit.
+    let w1 = bone_heat_weights(&plus, &skeletonize(&plus, &p).unwrap(), &WeightParams::default()).unwrap();
+    let top = |w: &Weights, v: usize| {
+        let (j, x) = w.influences(v);
+        j[x.iter()
+            .enumerate()
+            .max_by(|a, b| a.1.total_cmp(b.1))
+            .map_or(0, |e| e.0)]
+    };
+    for s in [1e-20f32, 1e20] {
+        let mut m = plus.clone();
+        for q in &mut m.positions {
+            *q *= s;
+        }
+        let sk = skeletonize(&m, &p).unwrap();
+        check_plus(&sk, s as f64, &format!("plus × {s:e}"));
+        let (w, report) = bone_heat_weights_with_report(&m, &sk, &WeightParams::default()).unwrap();
+        check_weights(&w, m.positions.len(), 4);
+        assert!(report.solved && report.fallback_vertices == 0, "× {s:e}: {report:?}");
+        // Nearly every vertex keeps its dominant joint at every scale.
+        let same = (0..m.positions.len()).filter(|&v| top(&w, v) == top(&w1, v)).count();
+        assert!(
+            same * 100 >= 95 * m.positions.len(),
+            "× {s:e}: {same} of {}",
+            m.positions.len()
+        );
+    }
+    // Non-manifold: a fin inside the centre shares an edge of the surface with its two
+    // triangles (an edge of three triangles), and a second fin hangs from one vertex.
+    let mut m = plus.clone();
+    let [a, b, _] = m.triangles[0];
+    let n = m.positions.len() as u32;
+    m.positions.push(Vec3::ZERO);
+    m.positions.push(Vec3::new(0.05, 0.05, 0.0));
+    m.positions.push(Vec3::new(0.05, -0.05, 0.0));
+    m.triangles.push([a, b, n]);
+    m.triangles.push([a, n + 1, n + 2]);
+    let sk = skeletonize(&m, &p).unwrap();
+    check_plus(&sk, 1.0, "plus with fins");
+    let w = bone_heat_weights(&m, &sk, &WeightParams::default()).unwrap();
+    check_weights(&w, m.positions.len(), 4);
+}

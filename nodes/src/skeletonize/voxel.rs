@@ -15,8 +15,6 @@
 //! closing seals it is left as its shell (documented fallback: thin sheets and
 //! wide-open surfaces), flagged [`Solid::shell_only`].
 
-use std::collections::HashMap;
-
 use glam::DVec3;
 
 use sinew_core::data::Mesh;
@@ -215,28 +213,37 @@ pub fn voxelize(mesh: &Mesh, resolution: usize) -> Option<Solid> {
 }
 
 /// Edges used by one triangle only, once vertices at the same position are one (UV
-/// and normal seams split vertices without opening the surface).
+/// and normal seams split vertices without opening the surface). Sorting, not
+/// hashing: vertices are welded by sorting their position bits, edges are counted as
+/// runs of a sorted list (a hash map per edge cost a third of the skeleton's time on
+/// a 200k-vertex mesh).
 pub fn open_edges(mesh: &Mesh) -> usize {
-    let mut id: HashMap<[u32; 3], u32> = HashMap::with_capacity(mesh.positions.len());
-    let weld: Vec<u32> = mesh
-        .positions
-        .iter()
-        .map(|p| {
-            let n = id.len() as u32;
-            *id.entry([p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]).or_insert(n)
-        })
-        .collect();
-    let mut uses: HashMap<(u32, u32), u32> = HashMap::with_capacity(mesh.triangles.len() * 3 / 2);
+    let key = |i: u32| {
+        let p = mesh.positions[i as usize];
+        (p.x.to_bits(), p.y.to_bits(), p.z.to_bits())
+    };
+    let mut order: Vec<u32> = (0..mesh.positions.len() as u32).collect();
+    order.sort_unstable_by_key(|&i| key(i));
+    let mut weld = vec![0u32; mesh.positions.len()];
+    let mut id = 0u32;
+    for (k, &i) in order.iter().enumerate() {
+        if k > 0 && key(i) != key(order[k - 1]) {
+            id += 1;
+        }
+        weld[i as usize] = id;
+    }
+    let mut edges: Vec<u64> = Vec::with_capacity(mesh.triangles.len() * 3);
     for t in &mesh.triangles {
         let [a, b, c] = t.map(|i| weld.get(i as usize).copied().unwrap_or(u32::MAX));
         if a == b || b == c || a == c {
             continue;
         }
         for (x, y) in [(a, b), (b, c), (c, a)] {
-            *uses.entry((x.min(y), x.max(y))).or_default() += 1;
+            edges.push(((x.min(y) as u64) << 32) | x.max(y) as u64);
         }
     }
-    uses.values().filter(|&&n| n == 1).count()
+    edges.sort_unstable();
+    edges.chunk_by(|x, y| x == y).filter(|run| run.len() == 1).count()
 }
 
 /// Marks every cell a triangle overlaps.
@@ -314,21 +321,19 @@ pub fn tri_box_overlap(v: [DVec3; 3], e: f64) -> bool {
     if n.dot(v[0]).abs() > e * (n.x.abs() + n.y.abs() + n.z.abs()) {
         return false;
     }
-    let axes = [DVec3::X, DVec3::Y, DVec3::Z];
-    for fi in f {
-        for ax in axes {
-            let a = ax.cross(fi);
-            if a == DVec3::ZERO {
-                continue;
-            }
-            let p = [a.dot(v[0]), a.dot(v[1]), a.dot(v[2])];
-            let r = e * (a.x.abs() + a.y.abs() + a.z.abs());
-            if p[0].min(p[1]).min(p[2]) > r || p[0].max(p[1]).max(p[2]) < -r {
-                return false;
-            }
+    // The nine axes `box axis × edge`: X × f = (0, −f.z, f.y), Y × f = (f.z, 0, −f.x),
+    // Z × f = (−f.y, f.x, 0). Each has a zero component, so its dot products and
+    // radius are sums of two terms (the same values as the full three-term sums).
+    let separated = |i: usize, j: usize, ai: f64, aj: f64| {
+        if ai == 0.0 && aj == 0.0 {
+            return false;
         }
-    }
-    true
+        let p = v.map(|q| ai * q[i] + aj * q[j]);
+        let r = e * (ai.abs() + aj.abs());
+        p[0].min(p[1]).min(p[2]) > r || p[0].max(p[1]).max(p[2]) < -r
+    };
+    !f.iter()
+        .any(|fi| separated(1, 2, -fi.z, fi.y) || separated(0, 2, fi.z, -fi.x) || separated(0, 1, -fi.y, fi.x))
 }
 
 /// Inside cells: those the outside cannot reach from the border through cells off the
@@ -338,19 +343,23 @@ pub fn fill(grid: &Grid, shell: &[bool], closing: usize) -> Vec<bool> {
     const FREE: u8 = 0;
     const WALL: u8 = 1;
     const OUT: u8 = 2;
-    let wall: Vec<bool> = if closing == 0 {
-        shell.to_vec()
+    let as_state = |w: &bool| if *w { WALL } else { FREE };
+    let mut state: Vec<u8> = if closing == 0 {
+        shell.iter().map(as_state).collect()
     } else {
-        dilate(grid, shell, closing)
+        dilate(grid, shell, closing).iter().map(as_state).collect()
     };
-    let mut state: Vec<u8> = wall.iter().map(|&w| if w { WALL } else { FREE }).collect();
     // The border is outside; the flood runs over cells off the border, so every cell it
-    // pops has its six neighbours in the grid.
+    // reaches has its six neighbours in the grid.
     let [nx, ny, nz] = grid.dims;
-    let mut stack: Vec<usize> = Vec::new();
+    let mut seeds: Vec<usize> = Vec::new();
     for k in 0..nz {
         for j in 0..ny {
-            for i in 0..nx {
+            // Rows in the two outer layers in y or z whole, other rows their two ends.
+            let outer = j.min(ny - 1 - j).min(k).min(nz - 1 - k) <= 1;
+            let ends = [0, 1, nx - 2, nx - 1];
+            let columns: &mut dyn Iterator<Item = usize> = if outer { &mut (0..nx) } else { &mut ends.into_iter() };
+            for i in columns {
                 let layer = i.min(nx - 1 - i).min(j).min(ny - 1 - j).min(k).min(nz - 1 - k);
                 if layer > 1 {
                     continue;
@@ -359,22 +368,13 @@ pub fn fill(grid: &Grid, shell: &[bool], closing: usize) -> Vec<bool> {
                 if layer == 0 {
                     state[c] = OUT;
                 } else if state[c] == FREE {
-                    state[c] = OUT;
-                    stack.push(c);
+                    seeds.push(c);
                 }
             }
         }
     }
     let steps = six(grid);
-    while let Some(c) = stack.pop() {
-        for s in steps {
-            let m = (c as isize + s) as usize;
-            if state[m] == FREE {
-                state[m] = OUT;
-                stack.push(m);
-            }
-        }
-    }
+    flood_rows(grid, &mut state, seeds, FREE, OUT);
     if closing > 0 {
         // Reclaim: `closing` rounds of growth of the outside through non-shell cells,
         // from the outside cells next to the thickened wall.
@@ -409,6 +409,41 @@ pub fn fill(grid: &Grid, shell: &[bool], closing: usize) -> Vec<bool> {
         }
     }
     state.iter().map(|&s| s != OUT).collect()
+}
+
+/// Turns every `free` cell 6-connected to a seed (through `free` cells) into `to`, a
+/// row at a time (scanline fill): a popped seed grows into the whole run of `free`
+/// cells along x, and the first cell of every `free` run next to it in the four
+/// neighbouring rows becomes a seed. The cells reached are those of a cell-by-cell
+/// flood; the rows are scanned as contiguous memory. Every cell that can be reached
+/// must lie off the grid's border (its neighbours are in the grid).
+fn flood_rows(grid: &Grid, state: &mut [u8], mut stack: Vec<usize>, free: u8, to: u8) {
+    let sy = grid.dims[0] as isize;
+    let sz = (grid.dims[0] * grid.dims[1]) as isize;
+    while let Some(c) = stack.pop() {
+        if state[c] != free {
+            continue;
+        }
+        let (mut l, mut r) = (c, c);
+        while state[l - 1] == free {
+            l -= 1;
+        }
+        while state[r + 1] == free {
+            r += 1;
+        }
+        state[l..=r].fill(to);
+        for off in [-sy, sy, -sz, sz] {
+            let (a, b) = ((l as isize + off) as usize, (r as isize + off) as usize);
+            let mut open = false;
+            for (m, &s) in state[a..=b].iter().enumerate() {
+                let f = s == free;
+                if f && !open {
+                    stack.push(a + m);
+                }
+                open = f;
+            }
+        }
+    }
 }
 
 /// Linear offsets of the six face neighbours.

@@ -225,13 +225,19 @@ impl Deformer for Wire {
             .attr_doc(cache, "sampled base wires (WireCache)");
         s.keyable(base, false);
         s.affects(&[base.id(), dropoff.id(), scale.id()], &[cache.id()]);
-        // Maya's short names (node reference, Nodes/wire.html: rotation `ro`, crossingEffect
-        // `ce`, tension `te`, localInfluence `li`). The stored pages did not show those of
-        // deformedWire, baseWire, dropoffDistance and scale.
+        // Maya's short names (node reference, Nodes/wire.html, Maya 2009 and 2020: rotation
+        // `ro`, crossingEffect `ce`, tension `te`, localInfluence `li`, baseWire `bw`,
+        // deformedWire `dw`, dropoffDistance `dds`). scale `sc`: the stored reference pages
+        // stop before it; Maya-written scene files set it as `setAttr ".sc[0]" 1` next to
+        // `".dds[0]"` on wire nodes (scale is wire's only attribute starting with s).
         s.short_name(rotation, "ro")
             .short_name(crossing, "ce")
             .short_name(tension, "te")
-            .short_name(local, "li");
+            .short_name(local, "li")
+            .short_name(base, "bw")
+            .short_name(deformed, "dw")
+            .short_name(dropoff, "dds")
+            .short_name(scale, "sc");
         let ids = vec![
             cache.id(),
             deformed.id(),

@@ -123,6 +123,7 @@ const BLEND_SHAPE: Table = &[
     ("inputRelativeComponentsTarget", "irc", N),
     ("targetWeights", "tw", N),
     ("normalizationId", "nid", N),
+    ("postDeformersMode", "pdm", N),
     ("baseWeights", "bw", N),
     ("paintTargetWeights", "pwt", N),
     ("origin", "or", N),

@@ -34,6 +34,7 @@ const TIME: Table = &[
     ("outTime", "o", T),
     ("unwarpedTime", "unw", T),
     ("enableTimewarp", "etw", N),
+    ("timewarpIn", "twi", N),
 ];
 
 const MULTIPLY_DIVIDE: Table = &[

@@ -15,6 +15,15 @@
 //!   `(y · k_value) / (x · fps)`, which sets the key's `keyInAngle`/`keyOutAngle` (degrees)
 //!   for fixed tangents. On weighted curves (`.wgt`) the vector is three times the Bezier
 //!   handle, so its length in plug units divided by three is the key's weight.
+//! - Time-output curves (`animCurveTT`, `animCurveUT`): values are times written in frames
+//!   of the file's time unit, which are sinew frames as they are; the `y` of a stored
+//!   tangent is taken in seconds like its `x` (an assumption: Maya's documentation does
+//!   not say; it makes a tangent along a straight span keep the span straight).
+//! - A time-input curve (`animCurveT*`) whose `input` is connected evaluates at that
+//!   input (Maya: "if the input attribute is not connected, it has an implicit connection
+//!   to the Dependency Graph time node"); sinew's time curves read the graph's time only,
+//!   so it becomes the driven kind with the same output (`animCurveTL` → `animCurveUL`,
+//!   `TA` → `UA`, `TU` → `UU`, `TT` → `UT`), its keys still in frames.
 //! - `preInfinity`/`postInfinity`: Maya's 0 constant, 1 linear, 3 cycle, 4 cycle with
 //!   offset, 5 oscillate become sinew's constant, linear, cycle, cycleRelative, oscillate.
 
@@ -87,14 +96,22 @@ pub fn map_curve(imp: &mut Importer, i: usize) -> Result<(), MayaError> {
     let at = imp.node(i).at;
     let raw = imp.names.sinew_name(imp.scene, i);
     let name = imp.unique(&raw);
-    imp.add(&name, &ty, None, true);
+    let time_driven = ty.as_bytes().get(9) == Some(&b'T');
+    // A time curve evaluates at its `input` when something drives it (a time warp, an
+    // explicit `time1.outTime`); sinew's time curves read the graph's time only, so such a
+    // curve becomes the driven kind with the same keys (times still in frames).
+    let sinew_ty = match ty.strip_prefix("animCurveT") {
+        Some(out) if imp.input_conn(i, "input").is_some() => format!("animCurveU{out}"),
+        _ => ty.clone(),
+    };
+    imp.add(&name, &sinew_ty, None, true);
     imp.set_status(i, Status::Mapped(name.clone()));
     let class = match ty.as_bytes().get(10) {
         Some(b'A') => UnitClass::Angle,
         Some(b'L') => UnitClass::Linear,
+        Some(b'T') => UnitClass::Time,
         _ => UnitClass::None,
     };
-    let time_driven = ty.as_bytes().get(9) == Some(&b'T');
     // Keys.
     let mut keys: Vec<(u32, f64, f64)> = Vec::new();
     for a in &imp.node(i).attrs {
@@ -137,7 +154,11 @@ pub fn map_curve(imp: &mut Importer, i: usize) -> Result<(), MayaError> {
     let out_vec = vec_of(imp, "keyTanOutX", "keyTanOutY")?;
     // Plug units per internal unit: time (frames per second of input) and value.
     let kx = if time_driven { imp.units.fps } else { 1.0 };
-    let ky = imp.units.to_sinew(class);
+    let ky = if class == UnitClass::Time {
+        imp.units.fps
+    } else {
+        imp.units.to_sinew(class)
+    };
     let mut approximate = Vec::new();
     for &(k, _, _) in &keys {
         for (side, types, vecs, ty_attr, angle_attr, weight_attr) in [

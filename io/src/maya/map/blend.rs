@@ -137,6 +137,29 @@ pub fn map_blend_shape(
             [it, bw] if it.name == "inputTarget" && bw.name == "baseWeights" => {
                 base_weights.extend(indexed(&v, bw.index).map_err(fail)?);
             }
+            [it, itg, pdm]
+                if it.name == "inputTarget" && itg.name == "inputTargetGroup" && pdm.name == "postDeformersMode" =>
+            {
+                // Maya's post-deformation targets (1 tangent space, 2 transform space) apply
+                // their deltas after the deformers below them; sinew reads the deltas as
+                // object-space, so the target would not follow the deformation: say so.
+                let mode = v.num(0).map_err(fail)?;
+                if mode != 0.0 {
+                    let t = match itg.index {
+                        Some(Index::One(t)) => t.to_string(),
+                        _ => "?".to_string(),
+                    };
+                    let kind = if mode == 1.0 {
+                        "tangent-space"
+                    } else {
+                        "transform-space"
+                    };
+                    let msg = format!(
+                        "{name}: target {t} is a {kind} post-deformation target (postDeformersMode {mode}); it is imported as an object-space target and will not follow the deformers after it"
+                    );
+                    imp.warn(a.at, msg);
+                }
+            }
             [it, itg, tw]
                 if it.name == "inputTarget" && itg.name == "inputTargetGroup" && tw.name == "targetWeights" =>
             {

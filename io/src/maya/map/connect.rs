@@ -27,6 +27,24 @@ pub fn compatible(s: AttrType, d: AttrType) -> bool {
         )
 }
 
+/// A float into a bool (Maya converts, e.g. a float driving `visibility`): sinew connects
+/// only like types, so the number goes through `equal` (`input2` 0, `epsilon` 0) and
+/// `not`, giving `value != 0`. Assumption: Maya's documentation states the rule for MEL
+/// assignments to integers (the decimals are dropped) but not for a double plug driving a
+/// bool plug; `!= 0` (C++'s conversion, which a data handle's `asBool` would apply) is
+/// used and documented in docs/maya-import.md. A NaN shows the node (NaN is not equal to
+/// 0).
+fn number_to_bool(imp: &mut Importer, d: usize, st: &Target, dt: &Target, at: crate::maya::scene::Offset) {
+    let base = imp.names.sinew_name(imp.scene, d);
+    let eq = imp.unique(&format!("{base}_isZero"));
+    imp.add(&eq, "equal", None, false);
+    let not = imp.unique(&format!("{base}_toBool"));
+    imp.add(&not, "not", None, false);
+    imp.connect(st.path(), format!("{eq}.input1"), at);
+    imp.connect(format!("{eq}.output"), format!("{not}.input"), at);
+    imp.connect(format!("{not}.output"), dt.path(), at);
+}
+
 /// The Maya unit class of a plug when the tables or the node's `addAttr` know it.
 fn known_class(imp: &Importer, n: usize, segs: &[Seg]) -> Option<UnitClass> {
     // A conversion node's plugs take whatever unit its factor expects.
@@ -128,6 +146,10 @@ pub fn map_connections(imp: &mut Importer) -> Result<(), MayaError> {
 fn connect_plugs(imp: &mut Importer, c: usize, s: usize, d: usize, st: Target, dt: Target) {
     let conn = &imp.scene.connections[c];
     let at = conn.at;
+    if st.ty() == AttrType::Float && dt.ty() == AttrType::Bool {
+        number_to_bool(imp, d, &st, &dt, at);
+        return;
+    }
     if !compatible(st.ty(), dt.ty()) {
         let line = format!(
             "{}: {} -> {}: sinew does not connect {} to {} ({} -> {})",

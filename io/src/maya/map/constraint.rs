@@ -66,6 +66,7 @@ pub fn map_constraint(imp: &mut Importer, i: usize) -> Result<(), MayaError> {
     // Targets by index, from the connections into target[i].*.
     let mut targets: std::collections::BTreeMap<u32, usize> = std::collections::BTreeMap::new();
     let mut redirects = Vec::new();
+    let mut weights: std::collections::BTreeMap<u32, f64> = std::collections::BTreeMap::new();
     for c in imp.conns_into(i) {
         let conn = &imp.scene.connections[c];
         let segs = long_segs(imp, i, &conn.dst.segs);
@@ -87,6 +88,7 @@ pub fn map_constraint(imp: &mut Importer, i: usize) -> Result<(), MayaError> {
                 let added = imp.node(i).added.iter().find(|a| a.long == w.name);
                 let value = imp.number(i, &w.name).or(added.and_then(|a| a.default)).unwrap_or(1.0);
                 imp.acc.set_elem(&name, "targetWeight", k, Value::Float(value));
+                weights.insert(k, value);
             }
             imp.consume(c);
         }
@@ -98,6 +100,7 @@ pub fn map_constraint(imp: &mut Importer, i: usize) -> Result<(), MayaError> {
         ));
         if let Some(v) = imp.number(i, &format!("target[{k}].targetWeight")) {
             imp.acc.set_elem(&name, "targetWeight", k, Value::Float(v));
+            weights.insert(k, v);
         }
         let world = if position_only {
             target_point_matrix(imp, &name, k, t)
@@ -162,11 +165,48 @@ pub fn map_constraint(imp: &mut Importer, i: usize) -> Result<(), MayaError> {
             Redirect::Sinew(format!("{name}.constraintInverseScale")),
         ));
     }
+    rest_position(imp, i, &name, &targets, &weights);
     let own_weights: Vec<String> = redirects.iter().map(|(k, _)| k.clone()).collect();
     let map: &mut NodeMap = &mut imp.nodes[i];
     map.redirects.extend(redirects);
-    let skip = move |p: &str| p == "target" || own_weights.iter().any(|w| w == p);
+    let skip = move |p: &str| p == "target" || p == "enableRestPosition" || own_weights.iter().any(|w| w == p);
     apply_set_attrs(imp, i, &skip)
+}
+
+/// `enableRestPosition` (Maya's constraint node reference: "If true, the constraint goes
+/// to the restTranslate position when all weights are zero. If false, the constraint
+/// output is not computed when all weights are zero"). sinew's constraints output their
+/// rest values (`restTranslate`, `restRotate`, `restScale`, mapped by name) whenever no
+/// target has weight, which is Maya's rule with the flag on; with a positive total weight
+/// the flag changes nothing (the weights are normalised, no blend toward rest). With the
+/// flag off (Maya's default when the file does not set it), Maya keeps the channels'
+/// last value, which a rig evaluator cannot reproduce: a warning naming the line says so
+/// when the total weight can be 0 (a weight is driven, or the stored weights add up to 0).
+fn rest_position(
+    imp: &mut Importer,
+    i: usize,
+    name: &str,
+    targets: &std::collections::BTreeMap<u32, usize>,
+    weights: &std::collections::BTreeMap<u32, f64>,
+) {
+    if imp.number(i, "enableRestPosition").is_some_and(|v| v != 0.0) {
+        return;
+    }
+    let driven = imp.conns_into(i).into_iter().any(|c| {
+        if imp.ends[c].0 == Some(i) {
+            return false;
+        }
+        let segs = long_segs(imp, i, &imp.scene.connections[c].dst.segs);
+        let leaf = segs.last().map_or("", |s| s.name.as_str());
+        leaf == "targetWeight" || imp.node(i).added.iter().any(|a| a.long == leaf)
+    });
+    let total: f64 = targets.keys().map(|k| weights.get(k).copied().unwrap_or(1.0)).sum();
+    if driven || total <= 0.0 {
+        let msg = format!(
+            "{name}: enableRestPosition is off: where every target weight is 0 Maya stops computing the constraint and its channels keep their last value; sinew outputs the rest values (restTranslate/restRotate/restScale) there. Turn Enable Rest Position on in Maya (or set the rest values) to make the two agree"
+        );
+        imp.warn(imp.node(i).at, msg);
+    }
 }
 
 fn seg(name: &str) -> Vec<crate::maya::plug::Seg> {

@@ -19,8 +19,15 @@
 //!   gets a `vectorProduct` (vector × the handle's `parentMatrix`) in between; `twist`
 //!   (degrees) and `ikBlend` copy over or are connected through the handle's plugs.
 //!   Maya's solvers do not stretch: `stretch` stays off;
-//! - `ikSCsolver` → `ikSC`: it reaches the goal; Maya's SC solver also turns the chain to
-//!   follow the handle's rotation, which sinew's does not (a warning says so);
+//! - `ikSCsolver` → `ikSC` with `orientToGoal` on: it reaches the goal, then rolls the
+//!   chain about the start→end line so the effector's orientation comes as close as
+//!   possible to the handle's (Maya's node reference, *ikSCsolver*: "It puts the position
+//!   first and then adjusts the orientation by rotating the start joint about the line from
+//!   the start joint to the effector"); `effectorOffset` is the effector's own rotation
+//!   (`rotateAxis` then `rotate` in its rotate order), identity when the file sets none.
+//!   The handle's `twist` is not read by this solver (Maya's ikRPsolver reference: the RP
+//!   solver differs from SC by using poleVector and twist instead of the handle's
+//!   orientation);
 //! - `ikSpringSolver` → `ikRP`, the nearest sinew solver: the spring solver spreads the
 //!   bend over every joint by its spring angle bias, the rotate-plane solver keeps the
 //!   chain's rest shape in the pole plane (a warning says so);
@@ -29,6 +36,7 @@
 
 use glam::DVec3;
 use sinew_core::{Curve, CurveForm, Value};
+use sinew_nodes::transform::euler::{euler_to_quat, RotateOrder};
 
 use super::{Importer, Redirect, Status};
 use crate::maya::MayaError;
@@ -140,7 +148,7 @@ fn map_handle(imp: &mut Importer, h: usize) -> Result<Option<Solved>, MayaError>
     }
     let (sinew_ty, note) = match solver_ty.as_str() {
         "ikRPsolver" => ("ikRP", None),
-        "ikSCsolver" => ("ikSC", Some("Maya's single-chain solver also turns the chain to follow the handle's rotation; sinew's ikSC only reaches the goal")),
+        "ikSCsolver" => ("ikSC", None),
         "ikSpringSolver" => ("ikRP", Some("ikSpringSolver is solved by sinew's rotate-plane ikRP, the nearest solver: the spring solver spreads the bend over the joints by its angle bias, ikRP keeps the chain's rest shape in the pole plane, so middle joints differ")),
         "ikSplineSolver" => ("ikSpline", None),
         other => {
@@ -211,7 +219,18 @@ fn map_handle(imp: &mut Importer, h: usize) -> Result<Option<Solved>, MayaError>
     }
     match sinew_ty {
         "ikRP" => pole_and_twist(imp, h, &name, &hname, &mut redirects),
-        "ikSC" => {}
+        "ikSC" => {
+            imp.acc.set(&name, "orientToGoal", Value::Bool(true));
+            let deg = |v: DVec3| v.map(|x| imp.units.ui_value(crate::maya::units::UnitClass::Angle, x).to_radians());
+            let order = RotateOrder::from_index(imp.number(eff, "rotateOrder").unwrap_or(0.0) as i64)
+                .unwrap_or(RotateOrder::Xyz);
+            let r = euler_to_quat(deg(vec3(imp, eff, "rotate", DVec3::ZERO)), order)
+                * euler_to_quat(deg(vec3(imp, eff, "rotateAxis", DVec3::ZERO)), RotateOrder::Xyz);
+            if r != glam::DQuat::IDENTITY {
+                imp.acc
+                    .set(&name, "effectorOffset", Value::Matrix(glam::DMat4::from_quat(r)));
+            }
+        }
         _ => spline_curve(imp, h, &name, &mut redirects),
     }
     if sinew_ty != "ikSpline" {

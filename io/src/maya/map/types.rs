@@ -35,6 +35,8 @@ const TABLE: &[(&str, &str, TypeKind, Handler)] = &[
     ("animCurveUL", "animCurveUL", TypeKind::Anim, anim::map_curve),
     ("animCurveUA", "animCurveUA", TypeKind::Anim, anim::map_curve),
     ("animCurveUU", "animCurveUU", TypeKind::Anim, anim::map_curve),
+    ("animCurveTT", "animCurveTT", TypeKind::Anim, anim::map_curve),
+    ("animCurveUT", "animCurveUT", TypeKind::Anim, anim::map_curve),
     (
         "unitConversion",
         "unitConversion",

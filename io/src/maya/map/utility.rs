@@ -115,8 +115,24 @@ pub fn map_unit_conversion(imp: &mut Importer, i: usize) -> Result<(), MayaError
     Ok(())
 }
 
-/// `time` (`time1`): a sinew `time` node when something reads it.
+/// `time` (`time1`): a sinew `time` node when something reads it. A scene time warp (an
+/// `animCurveTT`'s `apply` into `timewarpIn` with `enableTimewarp` on: Maya's *time* node
+/// reference) is not applied — sinew's graph time is the timeline's — and is warned.
 pub fn map_time(imp: &mut Importer, i: usize) -> Result<(), MayaError> {
+    let warp = imp.conns_into(i).into_iter().find_map(|c| {
+        let conn = &imp.scene.connections[c];
+        let dst = imp.long_path(i, &conn.dst.segs);
+        (dst == "timewarpIn").then_some((c, imp.ends[c].0))
+    });
+    if let (Some((c, src)), true) = (warp, imp.number(i, "enableTimewarp").is_some_and(|v| v != 0.0)) {
+        let conn = &imp.scene.connections[c];
+        let from = src.map_or_else(|| conn.src.to_string(), |s| imp.node(s).name.clone());
+        let msg = format!(
+            "{}: the scene time is warped by {from} (enableTimewarp); sinew does not apply a scene time warp: every time curve reads the timeline's time, so animation Maya shows warped plays unwarped. Connect the warp's output to the curves' input in Maya to keep it",
+            imp.node(i).name
+        );
+        imp.warn(conn.at, msg);
+    }
     if imp.conns_from(i).is_empty() {
         imp.set_status(i, Status::Folded);
         return Ok(());

@@ -219,3 +219,20 @@ fn add_attr_becomes_custom_attributes() {
     let attr = spec.attr(id);
     assert_eq!((attr.min, attr.max), (Some(-10.0), Some(10.0)));
 }
+
+/// A float driving `visibility` (Maya converts a number to a bool: non-zero is on) goes
+/// through `equal` and `not` instead of being dropped: 0.25 shows the node, 0 hides it,
+/// −0.5 shows it again.
+#[test]
+fn float_into_visibility_converts_to_bool() {
+    let imp = import(&format!(
+        "{HEADER}createNode transform -n \"b\";\ncreateNode addDoubleLinear -n \"adl\";\n\tsetAttr \".i1\" 0.25;\nconnectAttr \"adl.o\" \"b.v\";\n"
+    ));
+    assert!(imp.report.dropped.is_empty(), "{:?}", imp.report.dropped);
+    let mut g = imp.rig.to_graph(&registry()).unwrap();
+    for (x, want) in [(0.25, true), (0.0, false), (-0.5, true)] {
+        g.set_path("adl.input1", Value::Float(x)).unwrap();
+        let got = g.get_path("b.visibility").unwrap();
+        assert!(matches!(got, Value::Bool(b) if b == want), "input1 = {x}: {got}");
+    }
+}

@@ -311,3 +311,40 @@ fn stored_target_deltas_move_the_listed_vertices() {
     }
     assert!(checked >= 5, "only {checked} stored targets checked");
 }
+
+/// A post-deformation (tangent-space) target is not imported silently as an object-space
+/// one: blendShapesExport.ma with `setAttr ".it[0].itg[0].pdm" 1;` added to blendShape10
+/// gives a warning at that line naming the node, the target and the mode.
+#[test]
+fn post_deformation_targets_are_warned() {
+    let Some(path) = super::assets::scene("blendShapesExport.ma") else {
+        return;
+    };
+    let Ok(text) = std::fs::read_to_string(&path) else {
+        eprintln!("skipped: {} is absent", path.display());
+        return;
+    };
+    let anchor = "createNode blendShape -n \"blendShape10\";";
+    let at = text.find(anchor).expect("blendShape10 in the scene") + anchor.len();
+    let line = text[..at].lines().count() + 1;
+    let edited = format!("{}\n\tsetAttr \".it[0].itg[0].pdm\" 1;{}", &text[..at], &text[at..]);
+    let imp = crate::maya::import_maya(
+        &edited,
+        "edited.ma",
+        &registry(),
+        &crate::maya::MayaImportOptions::default(),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let w: Vec<&String> = imp
+        .report
+        .warnings
+        .iter()
+        .filter(|w| w.contains("postDeformersMode"))
+        .collect();
+    assert_eq!(w.len(), 1, "{:?}", imp.report.warnings);
+    assert!(w[0].starts_with(&format!("edited.ma:{line}:")), "{}", w[0]);
+    assert!(w[0].contains("blendShape10: target 0 is a tangent-space"), "{}", w[0]);
+    // The unedited file has no post-deformation target, so no such warning.
+    let plain = import_scene("blendShapesExport.ma").unwrap();
+    assert!(!plain.report.warnings.iter().any(|w| w.contains("postDeformersMode")));
+}

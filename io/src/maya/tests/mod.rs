@@ -2,10 +2,13 @@
 //! the shared assets (skipped with a message when absent).
 
 mod anim;
+mod anim_time;
 mod assets;
 mod chain;
+mod constraints;
 mod constructs;
 mod deform;
+mod ik_sc;
 mod rigging;
 mod units;
 mod uv;
