@@ -3,7 +3,7 @@
 //! dependencies in topological order, pruning to the observed plugs, the per-frame
 //! steps, and the guarded schedule of [`crate::inactive`].
 
-use std::collections::HashMap;
+use slotmap::SecondaryMap;
 
 use crate::error::{Error, Result};
 use crate::graph::{Graph, NodeId, Plug};
@@ -17,39 +17,70 @@ use crate::slots::Slots;
 use crate::spec::{AttrId, Direction};
 use crate::value::Value;
 
+/// No slot (in [`Compiler::own`] and [`Compiler::outputs`]).
+const NO_SLOT: u32 = u32::MAX;
+
 /// The compiler's state for one graph.
+///
+/// Every attribute element of the graph has a dense index (its node's attributes in
+/// `order`, then the attribute, then the element's position among the attribute's
+/// elements), and the per-element tables are vectors over it: compiling costs a few
+/// array lookups per connection, linear in the graph's size.
 pub(crate) struct Compiler<'g> {
     graph: &'g Graph,
     order: Vec<NodeId>,
+    /// Each node's position in `order`.
+    position: SecondaryMap<NodeId, u32>,
     attr_base: Vec<u32>,
+    /// The dense index of the first element of each attribute (indexed by
+    /// `attr_base[node] + attr`).
+    elem_base: Vec<u32>,
     initial: Vec<Value>,
     output_slot_producer: Vec<Option<(u32, u16)>>,
-    resolved: HashMap<(NodeId, AttrId, u32), Binding>,
-    own: HashMap<(NodeId, AttrId, u32), u32>,
-    outputs: HashMap<(NodeId, AttrId, u32), u32>,
+    /// The binding of each element, once found.
+    resolved: Vec<Option<Binding>>,
+    /// The slot of each element that holds its own value (an input not driven as a
+    /// whole), else [`NO_SLOT`].
+    own: Vec<u32>,
+    /// The slot of each output element, else [`NO_SLOT`].
+    outputs: Vec<u32>,
     assemblies: Vec<Assembly>,
 }
 
 impl<'g> Compiler<'g> {
     pub(crate) fn new(graph: &'g Graph) -> Self {
         let order = upstream_first(graph);
+        let mut position = SecondaryMap::with_capacity(order.len());
+        for (i, &id) in order.iter().enumerate() {
+            position.insert(id, i as u32);
+        }
         Compiler {
             graph,
             order,
+            position,
             attr_base: Vec::new(),
+            elem_base: Vec::new(),
             initial: Vec::new(),
             output_slot_producer: Vec::new(),
-            resolved: HashMap::new(),
-            own: HashMap::new(),
-            outputs: HashMap::new(),
+            resolved: Vec::new(),
+            own: Vec::new(),
+            outputs: Vec::new(),
             assemblies: Vec::new(),
         }
     }
 
-    fn new_slot(&mut self, v: Value, producer: Option<(u32, u16)>) -> u32 {
-        self.initial.push(v);
-        self.output_slot_producer.push(producer);
-        (self.initial.len() - 1) as u32
+    /// The dense index of the element `plug` names, if it exists.
+    fn element(&self, plug: Plug) -> Option<usize> {
+        let ni = *self.position.get(plug.node)? as usize;
+        let k = self
+            .graph
+            .nodes
+            .get(plug.node)?
+            .attrs
+            .get(plug.attr.index())?
+            .find(plug.elem())?;
+        let attr = *self.attr_base.get(ni)? as usize + plug.attr.index();
+        Some(*self.elem_base.get(attr)? as usize + k)
     }
 
     /// The binding through which the value at `plug` (an element, maybe a component) is read.
@@ -57,26 +88,27 @@ impl<'g> Compiler<'g> {
         if depth > 10_000 {
             return Err(Error::Program("connection chain too deep".into()));
         }
-        let key = (plug.node, plug.attr, plug.elem());
-        let whole = if let Some(&b) = self.resolved.get(&key) {
+        let data = self.graph.data(plug.node)?;
+        let store = &data.attrs[plug.attr.index()];
+        let missing = || {
+            Error::Program(format!(
+                "{} has no element {}",
+                self.graph.plug_name(plug.whole()),
+                plug.elem()
+            ))
+        };
+        let k = store.find(plug.elem()).ok_or_else(missing)?;
+        let key = self.element(plug).ok_or_else(missing)?;
+        let whole = if let Some(b) = self.resolved[key] {
             b
         } else {
-            let data = self.graph.data(plug.node)?;
-            let store = &data.attrs[plug.attr.index()];
-            let k = store.find(plug.elem()).ok_or_else(|| {
-                Error::Program(format!(
-                    "{} has no element {}",
-                    self.graph.plug_name(plug.whole()),
-                    plug.elem()
-                ))
-            })?;
             let e = &store.elems[k];
-            let b = if let Some(&s) = self.outputs.get(&key) {
-                Binding::Slot(s)
+            let b = if self.outputs[key] != NO_SLOT {
+                Binding::Slot(self.outputs[key])
             } else if let Some(src) = e.source {
                 self.binding_of(src, depth + 1)?
             } else if let Some(cs) = e.comp_sources.clone() {
-                let own = self.own[&key];
+                let own = self.own[key];
                 let mut comps = [None; 3];
                 for (k, s) in cs.iter().enumerate() {
                     if let Some(s) = s {
@@ -92,9 +124,9 @@ impl<'g> Compiler<'g> {
                 self.assemblies.push(Assembly { own, comps });
                 Binding::Assemble((self.assemblies.len() - 1) as u32)
             } else {
-                Binding::Slot(self.own[&key])
+                Binding::Slot(self.own[key])
             };
-            self.resolved.insert(key, b);
+            self.resolved[key] = Some(b);
             b
         };
         Ok(match (whole, plug.component) {
@@ -116,7 +148,15 @@ impl<'g> Compiler<'g> {
         let g = self.graph;
         // Pass 1: slots for outputs (per group) and for inputs not driven as a whole.
         let mut total_attrs = 0u32;
-        for (ni, &id) in self.order.clone().iter().enumerate() {
+        let elements: usize = (self.order.iter())
+            .filter_map(|&id| g.nodes.get(id))
+            .map(|d| d.attrs.iter().map(|a| a.elems.len()).sum::<usize>())
+            .sum();
+        self.own.reserve_exact(elements);
+        self.outputs.reserve_exact(elements);
+        self.initial.reserve_exact(elements);
+        self.output_slot_producer.reserve_exact(elements);
+        for (ni, &id) in self.order.iter().enumerate() {
             let data = g.data(id)?;
             self.attr_base.push(total_attrs);
             total_attrs += data.attrs.len() as u32;
@@ -124,19 +164,25 @@ impl<'g> Compiler<'g> {
             for (a, store) in data.attrs.iter().enumerate() {
                 let attr = AttrId(a as u16);
                 let aspec = spec.attr(attr);
+                self.elem_base.push(self.own.len() as u32);
                 for e in &store.elems {
-                    let key = (id, attr, e.index);
+                    let (mut own, mut output) = (NO_SLOT, NO_SLOT);
                     if aspec.direction == Direction::Output {
                         let group = spec.group_of(attr).unwrap_or(0);
-                        let s = self.new_slot(e.value.clone(), Some((ni as u32, group)));
-                        self.outputs.insert(key, s);
+                        self.initial.push(e.value.clone());
+                        self.output_slot_producer.push(Some((ni as u32, group)));
+                        output = (self.initial.len() - 1) as u32;
                     } else if e.source.is_none() {
-                        let s = self.new_slot(e.value.clone(), None);
-                        self.own.insert(key, s);
+                        self.initial.push(e.value.clone());
+                        self.output_slot_producer.push(None);
+                        own = (self.initial.len() - 1) as u32;
                     }
+                    self.own.push(own);
+                    self.outputs.push(output);
                 }
             }
         }
+        self.resolved = vec![None; self.own.len()];
         // Pass 2: bindings for every element.
         let mut attr_bindings = vec![AttrBinding::default(); total_attrs as usize];
         let mut elems = Vec::new();
@@ -171,11 +217,12 @@ impl<'g> Compiler<'g> {
         };
         // Steps, one per node group, and their dependencies.
         let mut steps: Vec<Step> = Vec::new();
-        let mut step_of: HashMap<(u32, u16), u32> = HashMap::new();
+        // The steps of node `ni` are `step_base[ni]..step_base[ni + 1]`, one per group.
+        let mut step_base: Vec<u32> = Vec::with_capacity(self.order.len() + 1);
         for (ni, &id) in self.order.iter().enumerate() {
             let data = g.data(id)?;
+            step_base.push(steps.len() as u32);
             for gi in 0..data.spec().groups().len() {
-                step_of.insert((ni as u32, gi as u16), steps.len() as u32);
                 steps.push(Step::new(
                     data.kind.clone(),
                     ni as u32,
@@ -185,11 +232,17 @@ impl<'g> Compiler<'g> {
                 ));
             }
         }
+        step_base.push(steps.len() as u32);
+        let step_of = |&(ni, group): &(u32, u16)| -> Option<u32> {
+            let (first, end) = (*step_base.get(ni as usize)?, *step_base.get(ni as usize + 1)?);
+            let step = first + group as u32;
+            (step < end).then_some(step)
+        };
         let mut dynamic_slot = vec![false; self.initial.len()];
         for p in &options.dynamic_inputs {
-            let key = (p.node, p.attr, p.elem());
-            match self.own.get(&key) {
-                Some(&s) => dynamic_slot[s as usize] = true,
+            let own = self.element(*p).map(|k| self.own[k]).filter(|&s| s != NO_SLOT);
+            match own {
+                Some(s) => dynamic_slot[s as usize] = true,
                 None => {
                     return Err(Error::Program(format!(
                         "{} cannot be dynamic: it is an output or driven by a connection",
@@ -216,7 +269,7 @@ impl<'g> Compiler<'g> {
                             reads_dynamic[si] = true;
                         }
                         if let Some(p) = self.output_slot_producer[s as usize] {
-                            if let Some(&d) = step_of.get(&p) {
+                            if let Some(d) = step_of(&p) {
                                 if d as usize != si {
                                     deps[si].push(d);
                                 }
@@ -267,7 +320,7 @@ impl<'g> Compiler<'g> {
                 tables.slots_read(b, &mut reads);
                 for s in reads {
                     if let Some(prod) = self.output_slot_producer[s as usize] {
-                        if let Some(&d) = step_of.get(&prod) {
+                        if let Some(d) = step_of(&prod) {
                             stack.push(d);
                         }
                     }
@@ -291,7 +344,7 @@ impl<'g> Compiler<'g> {
         let producer: Vec<Option<u32>> = self
             .output_slot_producer
             .iter()
-            .map(|p| p.as_ref().and_then(|p| step_of.get(p).copied()))
+            .map(|p| p.as_ref().and_then(step_of))
             .collect();
         let initial = Slots::from_values(std::mem::take(&mut self.initial));
         let selective = inactive::analyse(&inactive::Analysis {
@@ -391,7 +444,10 @@ impl<'g> Compiler<'g> {
 /// instance's frame walks its memory forward (fewer cache misses in large batches).
 fn upstream_first(graph: &Graph) -> Vec<NodeId> {
     let nodes = graph.nodes();
-    let index: HashMap<NodeId, usize> = nodes.iter().enumerate().map(|(i, &n)| (n, i)).collect();
+    let mut index: SecondaryMap<NodeId, usize> = SecondaryMap::with_capacity(nodes.len());
+    for (i, &n) in nodes.iter().enumerate() {
+        index.insert(n, i);
+    }
     let sources = |n: NodeId| -> Vec<usize> {
         let Ok(data) = graph.data(n) else { return Vec::new() };
         let mut up = Vec::new();
@@ -399,7 +455,7 @@ fn upstream_first(graph: &Graph) -> Vec<NodeId> {
             for e in &store.elems {
                 let comps = e.comp_sources.iter().flat_map(|c| c.iter()).flatten();
                 for p in e.source.iter().chain(comps) {
-                    if let Some(&i) = index.get(&p.node) {
+                    if let Some(&i) = index.get(p.node) {
                         up.push(i);
                     }
                 }

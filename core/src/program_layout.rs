@@ -7,7 +7,6 @@
 use crate::inactive::Guard;
 use crate::program::{AttrBinding, Binding, CompiledTables, Step};
 use crate::slots::{Class, Slots};
-use crate::value::Value;
 
 /// The new id of every slot (indexed by old id): by class first (the dense arrays stay
 /// contiguous), then by the position of the first step of `frame` that reads or writes
@@ -41,12 +40,23 @@ pub(crate) fn touch_order(
             }
         }
     }
-    let values = initial.to_values();
-    let mut order: Vec<u32> = (0..n as u32).collect();
-    order.sort_by_key(|&s| (Class::of(&values[s as usize]), first_touch[s as usize], s));
+    // A counting sort by (class, first touch), stable in the old id: linear in the slots
+    // and the frame's length (a comparison sort of a 100,000-joint chain's 1.9 million
+    // slots took a tenth of its compile).
+    let untouched = frame.len();
+    let key = |s: usize| initial.class(s as u32) as usize * (untouched + 1) + (first_touch[s] as usize).min(untouched);
+    let keys: Vec<usize> = (0..n).map(key).collect();
+    let mut start = vec![0u32; (Class::Other as usize + 1) * (untouched + 1) + 1];
+    for &k in &keys {
+        start[k + 1] += 1;
+    }
+    for k in 1..start.len() {
+        start[k] += start[k - 1];
+    }
     let mut new_id = vec![0u32; n];
-    for (new, &old) in order.iter().enumerate() {
-        new_id[old as usize] = new as u32;
+    for (old, &k) in keys.iter().enumerate() {
+        new_id[old] = start[k];
+        start[k] += 1;
     }
     new_id
 }
@@ -87,16 +97,7 @@ impl Renumber<'_> {
         for g in self.guards.iter_mut() {
             g.binding = binding(g.binding);
         }
-        let permute = |old: Vec<Value>| -> Vec<Value> {
-            let mut out: Vec<Option<Value>> = vec![None; old.len()];
-            for (s, v) in old.into_iter().enumerate() {
-                if let Some(o) = out.get_mut(map(s as u32) as usize) {
-                    *o = Some(v);
-                }
-            }
-            out.into_iter().flatten().collect()
-        };
-        *self.initial = Slots::from_values(permute(self.initial.to_values()));
+        *self.initial = self.initial.permuted(new_id);
         for flags in self.flags {
             let mut out = vec![false; flags.len()];
             for (s, &f) in flags.iter().enumerate() {

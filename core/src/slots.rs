@@ -70,28 +70,67 @@ pub(crate) struct Slots {
 impl Slots {
     /// Storage for values in slot order: the leading floats, then the vec3s, matrices,
     /// bools and enums that follow each other in that order, go to the dense arrays.
-    pub(crate) fn from_values(mut all: Vec<Value>) -> Slots {
-        // The run of each class, in class order: `all[start..end]`.
-        let mut bounds = [0usize; 6];
-        let mut at = 0;
-        for (k, class) in [Class::Float, Class::Vec3, Class::Matrix, Class::Bool, Class::Enum]
-            .into_iter()
-            .enumerate()
-        {
-            at += all[at..].iter().take_while(|v| Class::of(v) == class).count();
-            bounds[k + 1] = at;
+    pub(crate) fn from_values(all: Vec<Value>) -> Slots {
+        Slots::collect(all)
+    }
+
+    /// [`Slots::from_values`] without the intermediate vector: each value goes straight to
+    /// its dense array while the classes come in class order, and to `values` from the
+    /// first one out of order on.
+    pub(crate) fn collect(all: impl IntoIterator<Item = Value>) -> Slots {
+        let mut out = Slots::default();
+        let mut class = Class::Float;
+        let mut len = 0u32;
+        for v in all {
+            let c = Class::of(&v);
+            if class != Class::Other && c != class {
+                // Close the runs of the classes before `c` (or every run, when `c` comes
+                // earlier in class order than the current one).
+                let next = if c > class { c } else { Class::Other };
+                for k in class as usize..next as usize {
+                    out.base[k] = len;
+                }
+                class = next;
+            }
+            match (class, v) {
+                (Class::Float, v) => out.floats.push(v.as_f64().unwrap_or(0.0)),
+                (Class::Vec3, Value::Vec3(x)) => out.vec3s.push(x),
+                (Class::Matrix, Value::Matrix(x)) => out.mats.push(x),
+                (Class::Bool, Value::Bool(x)) => out.bools.push(x),
+                (Class::Enum, Value::Enum(x)) => out.enums.push(x),
+                (_, v) => out.values.push(v),
+            }
+            len += 1;
         }
-        let values = all.split_off(bounds[5]);
-        let run = |k: usize| &all[bounds[k]..bounds[k + 1]];
-        Slots {
-            floats: run(0).iter().filter_map(Value::as_f64).collect(),
-            vec3s: run(1).iter().filter_map(DVec3::from_value).collect(),
-            mats: run(2).iter().filter_map(DMat4::from_value).collect(),
-            bools: run(3).iter().filter_map(bool::from_value).collect(),
-            enums: run(4).iter().filter_map(i64::from_value).collect(),
-            values,
-            base: [bounds[1], bounds[2], bounds[3], bounds[4], bounds[5]].map(|b| b as u32),
+        for k in class as usize..Class::Other as usize {
+            out.base[k] = len;
         }
+        out
+    }
+
+    /// The class of the value in slot `s` (of its array, or of the `Value` stored there).
+    pub(crate) fn class(&self, s: u32) -> Class {
+        let b = self.base;
+        let dense = [Class::Float, Class::Vec3, Class::Matrix, Class::Bool, Class::Enum];
+        let mut start = 0;
+        for (k, c) in dense.into_iter().enumerate() {
+            if s >= start && s < b[k] {
+                return c;
+            }
+            start = b[k];
+        }
+        self.value(s).map_or(Class::Other, Class::of)
+    }
+
+    /// The slots with slot `s` moved to `new_id[s]` (a permutation of `0..len`).
+    pub(crate) fn permuted(&self, new_id: &[u32]) -> Slots {
+        let mut old_of = vec![0u32; new_id.len()];
+        for (old, &new) in new_id.iter().enumerate() {
+            if let Some(o) = old_of.get_mut(new as usize) {
+                *o = old as u32;
+            }
+        }
+        Slots::collect(old_of.into_iter().filter_map(|old| self.get(old)))
     }
 
     /// Every value stored as a `Value`, none in the dense arrays (what a program from an

@@ -225,6 +225,9 @@ pub struct NodeSpec {
     /// Index of the first custom attribute (`attrs.len()` when the node has none; see
     /// [`NodeSpec::custom_attrs`]).
     pub(crate) custom_start: u16,
+    /// The attributes with every input before the outputs it affects (the order a new
+    /// node's attributes take in the graph's topological order; `graph/order.rs`).
+    pub(crate) attr_order: Vec<AttrId>,
 }
 
 impl NodeSpec {
@@ -828,7 +831,8 @@ impl SpecBuilder {
             }
         }
         let custom_start = self.custom_start.unwrap_or(self.attrs.len() as u16);
-        Ok(NodeSpec {
+        let mut spec = NodeSpec {
+            attr_order: Vec::new(),
             custom_start,
             name: self.name,
             doc: self.doc,
@@ -841,7 +845,9 @@ impl SpecBuilder {
             affected_groups,
             by_name,
             by_short,
-        })
+        };
+        spec.attr_order = crate::graph::attr_topological_order(&spec);
+        Ok(spec)
     }
 }
 

@@ -9,7 +9,7 @@
 //! that change over time are unknown (`None`): they are checked where they are made.
 
 use std::cell::RefCell;
-use std::collections::{HashMap, HashSet};
+use std::collections::HashSet;
 
 use crate::graph::{Graph, NodeId, Plug};
 use crate::spec::{AttrId, Input, MultiInput};
@@ -115,25 +115,22 @@ impl ValidateInputs<'_> {
 /// Nodes whose outputs may change over time: time-dependent nodes and every node
 /// downstream of one.
 fn dynamic_nodes(graph: &Graph) -> HashSet<NodeId> {
-    let mut down: HashMap<NodeId, Vec<NodeId>> = HashMap::new();
-    for (s, d) in graph.connections() {
-        down.entry(s.node).or_default().push(d.node);
-    }
-    for id in graph.nodes() {
-        if let Some(p) = graph.parent_of(id) {
-            down.entry(p).or_default().push(id);
-        }
-    }
     let mut todo: Vec<NodeId> = graph
-        .nodes()
-        .into_iter()
-        .filter(|&n| graph.node_spec(n).is_some_and(|s| s.time_dependent))
+        .nodes
+        .iter()
+        .filter(|(_, n)| n.spec().time_dependent)
+        .map(|(id, _)| id)
         .collect();
     let mut seen: HashSet<NodeId> = todo.iter().copied().collect();
+    // Downstream through every connection (a DAG child reads its parent's world matrix,
+    // so children are reached too).
     while let Some(n) = todo.pop() {
-        for &m in down.get(&n).map(Vec::as_slice).unwrap_or(&[]) {
-            if seen.insert(m) {
-                todo.push(m);
+        let Some(data) = graph.nodes.get(n) else { continue };
+        for e in data.attrs.iter().flat_map(|a| &a.elems) {
+            for d in &e.dests {
+                if seen.insert(d.node) {
+                    todo.push(d.node);
+                }
             }
         }
     }

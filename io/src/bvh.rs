@@ -486,8 +486,14 @@ impl Bvh {
     /// Local translation and rotation of `joint` at `frame` (see the module docs for
     /// the conventions); `None` when either index is out of range.
     pub fn local_transform(&self, joint: usize, frame: usize) -> Option<(DVec3, DQuat)> {
+        self.local_transform_in(joint, self.frame(frame)?)
+    }
+
+    /// [`Bvh::local_transform`] from one frame's channel values (a slice [`Bvh::frame`]
+    /// gave): finding a frame costs a pass over the joints, so a loop over joints and
+    /// frames takes the frames once.
+    pub fn local_transform_in(&self, joint: usize, values: &[f64]) -> Option<(DVec3, DQuat)> {
         let j = self.joints.get(joint)?;
-        let values = self.frame(frame)?;
         let mut t = j.offset;
         let mut q = DQuat::IDENTITY;
         for (k, c) in j.channels.iter().enumerate() {

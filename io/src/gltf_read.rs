@@ -256,6 +256,12 @@ impl Reader<'_> {
             if !finite {
                 return Err(GltfError::Invalid(format!("node {}: non-finite transform", n.index())));
             }
+            if node.rotation.length_squared() == 0.0 {
+                return Err(GltfError::Invalid(format!(
+                    "node {}: rotation is the zero quaternion, which is no rotation",
+                    n.index()
+                )));
+            }
             nodes.push(node);
         }
         for i in 0..nodes.len() {
@@ -288,9 +294,14 @@ impl Reader<'_> {
         for prim in mesh.primitives() {
             let ctx = |what: &str| format!("{what} of mesh {} primitive {}", mesh.index(), prim.index());
             let topo = prim.mode();
-            if !matches!(topo, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
+            // Points are vertices without faces: read as a mesh without triangles (what sinew
+            // writes for one, so a written file reads back with its morph targets).
+            if !matches!(
+                topo,
+                Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan | Mode::Points
+            ) {
                 warnings.push(format!(
-                    "mesh {} primitive {}: {topo:?} primitive skipped (only triangles are imported)",
+                    "mesh {} primitive {}: {topo:?} primitive skipped (only triangles and points are imported)",
                     mesh.index(),
                     prim.index()
                 ));
@@ -487,6 +498,27 @@ impl Reader<'_> {
                     values.len()
                 )));
             }
+            if path == AnimPath::Rotation {
+                // A rotation key must have a direction (glTF: unit quaternions; sinew
+                // normalizes them, in f64 so that no finite key overflows): a zero key has
+                // none, and normalizing it gave NaN (found by the `gltf` fuzz target).
+                let vertices = values
+                    .chunks_exact(4)
+                    .enumerate()
+                    .filter(|(i, _)| per_key == 1 || i % 3 == 1);
+                for (i, q) in vertices {
+                    if q.iter().all(|&x| x == 0.0) {
+                        return Err(GltfError::Accessor {
+                            index: sampler.output().index(),
+                            context: ctx("output"),
+                            message: format!(
+                                "rotation key {} is the zero quaternion, which is no rotation",
+                                i / per_key
+                            ),
+                        });
+                    }
+                }
+            }
             out.channels.push(AnimationChannel {
                 node,
                 path,
@@ -503,6 +535,7 @@ impl Reader<'_> {
 /// Turns an index list of the given topology into triangles.
 fn triangulate(mode: Mode, idx: &[u32]) -> Result<Vec<[u32; 3]>, String> {
     Ok(match mode {
+        Mode::Points => Vec::new(),
         Mode::TriangleStrip => (2..idx.len())
             .map(|i| {
                 if i % 2 == 0 {

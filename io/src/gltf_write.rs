@@ -220,8 +220,10 @@ fn build(scene: &Scene, embed: bool) -> Result<(Value, Vec<u8>), GltfError> {
                 let cubic = ch.interpolation == Interpolation::CubicSpline;
                 for (i, q) in values.chunks_exact_mut(4).enumerate() {
                     if !cubic || i % 3 == 1 {
-                        let n = glam::Quat::from_slice(q).normalize();
-                        q.copy_from_slice(&n.to_array());
+                        // In f64: a finite f32 quaternion's length cannot overflow there.
+                        let q64 = glam::DQuat::from_xyzw(q[0].into(), q[1].into(), q[2].into(), q[3].into());
+                        let n = q64.normalize();
+                        q.copy_from_slice(&n.to_array().map(|x| x as f32));
                     }
                 }
             }

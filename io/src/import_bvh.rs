@@ -109,6 +109,8 @@ pub fn import_bvh(bvh: &Bvh, opts: &BvhImportOptions) -> Result<BvhImport, Strin
         return Err("frame times collapse (too many frames or a tiny Frame Time)".into());
     }
     let times = Value::FloatArray(Arc::new(times));
+    // Each frame's channel values, found once (finding one walks the joints).
+    let frames: Vec<&[f64]> = (0..bvh.frame_count).map(|f| bvh.frame(f).unwrap_or(&[])).collect();
     for (i, j) in bvh.joints.iter().enumerate() {
         let name = names[i].clone();
         let k = rig.add(&name, "joint", j.parent.map(|p| names[p].as_str()), false);
@@ -127,8 +129,8 @@ pub fn import_bvh(bvh: &Bvh, opts: &BvhImportOptions) -> Result<BvhImport, Strin
         let has_pos = j.channels.iter().any(|c| matches!(c, Channel::Position(_)));
         if has_pos {
             let mut vals = Vec::with_capacity(bvh.frame_count * 3);
-            for f in 0..bvh.frame_count {
-                let (t, _) = bvh.local_transform(i, f).ok_or("frame out of range")?;
+            for values in &frames {
+                let (t, _) = bvh.local_transform_in(i, values).ok_or("frame out of range")?;
                 vals.extend_from_slice(&t.to_array());
             }
             let crv = rig.name(&format!("{name}_translate_crv"), "crv");
@@ -140,7 +142,7 @@ pub fn import_bvh(bvh: &Bvh, opts: &BvhImportOptions) -> Result<BvhImport, Strin
         if axes.is_empty() {
             continue;
         }
-        let values = |f: usize| bvh.frame(f).unwrap_or(&[]);
+        let values = |f: usize| frames[f];
         if order.is_some() {
             let mut vals = Vec::with_capacity(bvh.frame_count * 3);
             for f in 0..bvh.frame_count {
@@ -160,8 +162,8 @@ pub fn import_bvh(bvh: &Bvh, opts: &BvhImportOptions) -> Result<BvhImport, Strin
             rig.connect(format!("{crv}.output"), format!("{name}.rotate"));
         } else {
             let mut vals = Vec::with_capacity(bvh.frame_count * 4);
-            for f in 0..bvh.frame_count {
-                let (_, q) = bvh.local_transform(i, f).ok_or("frame out of range")?;
+            for values in &frames {
+                let (_, q) = bvh.local_transform_in(i, values).ok_or("frame out of range")?;
                 vals.extend_from_slice(&q.to_array());
             }
             let crv = rig.name(&format!("{name}_rotate_crv"), "crv");

@@ -434,15 +434,24 @@ impl Scene {
     /// the scene. Returns a message naming the first problem.
     pub fn validate(&self) -> Result<(), String> {
         let n = self.nodes.len();
+        // Parents and children agree, in time linear in the links (a node with 100,000
+        // children, or a 100,000-deep chain, stays linear): every child names its lister as
+        // parent and is listed once, so a node with a parent is listed exactly by it.
+        let mut listed = vec![false; n];
         for (i, node) in self.nodes.iter().enumerate() {
-            if let Some(p) = node.parent {
-                if p >= n || !self.nodes[p].children.contains(&i) {
-                    return Err(format!("node {i}: parent {p} does not list it as a child"));
-                }
-            }
             for &c in &node.children {
                 if c >= n || self.nodes[c].parent != Some(i) {
                     return Err(format!("node {i}: child {c} does not have it as parent"));
+                }
+                if std::mem::replace(&mut listed[c], true) {
+                    return Err(format!("node {i}: lists child {c} twice"));
+                }
+            }
+        }
+        for (i, node) in self.nodes.iter().enumerate() {
+            if let Some(p) = node.parent {
+                if p >= n || !listed[i] {
+                    return Err(format!("node {i}: parent {p} does not list it as a child"));
                 }
             }
             if node.mesh.is_some_and(|m| m >= self.meshes.len()) {
@@ -484,15 +493,23 @@ impl Scene {
                 return Err(format!("node {i}: non-finite transform"));
             }
         }
-        for (i, node) in self.nodes.iter().enumerate() {
-            let mut cur = node.parent;
-            let mut steps = 0;
-            while let Some(p) = cur {
-                steps += 1;
-                if p == i || steps > n {
-                    return Err(format!("node {i} is its own ancestor (cycle)"));
+        // No node is its own ancestor: each walk up stops at a node an earlier walk
+        // finished (0: not reached, 1: on this walk, 2: its ancestors are fine), so every
+        // node is walked over once.
+        let mut state = vec![0u8; n];
+        for i in 0..n {
+            let mut path = Vec::new();
+            let mut cur = Some(i);
+            while let Some(x) = cur.filter(|&x| x < n && state[x] != 2) {
+                if state[x] == 1 {
+                    return Err(format!("node {x} is its own ancestor (cycle)"));
                 }
-                cur = self.nodes.get(p).and_then(|x| x.parent);
+                state[x] = 1;
+                path.push(x);
+                cur = self.nodes[x].parent;
+            }
+            for x in path {
+                state[x] = 2;
             }
         }
         if let Some(&r) = self.roots.iter().find(|&&r| r >= n) {

@@ -36,7 +36,7 @@ pub fn summary(path: &Path, rig: &LoadedRig) -> String {
         "{}: ok: {} nodes, {} connections, node types: {}",
         path.display(),
         g.node_count(),
-        g.connections().len(),
+        g.connection_count(),
         types.into_iter().collect::<Vec<_>>().join(", ")
     )
 }

@@ -276,3 +276,71 @@ fn deep_nesting_is_an_error_not_a_stack_overflow() {
     let out = d.join("deep.ron");
     refused(&["import", &gltf, "-o", out.to_str().unwrap()], &["deep.gltf"]);
 }
+
+/// A glTF rotation key or node rotation that is the zero quaternion is refused at read,
+/// naming the accessor or node (found by the `gltf` fuzz target: normalizing a zero key
+/// when writing GLB gave NaN, so the written file did not read back; the fuzzer's input is
+/// `fuzz/seeds/gltf/zero_rotation_key.glb`).
+#[test]
+fn zero_rotation_quaternions_in_gltf_are_errors() {
+    let d = dir("zero_quat");
+    // Keys at 0 s and 1 s, rotations (0, 0, 0, 0) then (0, 0, 0, 1), as little-endian f32.
+    let buffer = "AAAAAAAAgD8AAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAACAPw==";
+    let key = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"name":"a"}}],
+        "buffers":[{{"byteLength":40,"uri":"data:application/octet-stream;base64,{buffer}"}}],
+        "bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":8}},{{"buffer":0,"byteOffset":8,"byteLength":32}}],
+        "accessors":[{{"bufferView":0,"componentType":5126,"count":2,"type":"SCALAR","min":[0],"max":[1]}},
+                     {{"bufferView":1,"componentType":5126,"count":2,"type":"VEC4"}}],
+        "animations":[{{"samplers":[{{"input":0,"output":1}}],"channels":[{{"sampler":0,"target":{{"node":0,"path":"rotation"}}}}]}}]}}"#
+    );
+    let gltf = write(&d, "key.gltf", key);
+    let out = d.join("key.ron");
+    refused(
+        &["import", &gltf, "-o", out.to_str().unwrap()],
+        &["accessor 1", "rotation key 0 is the zero quaternion"],
+    );
+    let node = write(
+        &d,
+        "node.gltf",
+        r#"{"asset":{"version":"2.0"},"nodes":[{"name":"a","rotation":[0,0,0,0]}]}"#,
+    );
+    let out = d.join("node.ron");
+    refused(
+        &["import", &node, "-o", out.to_str().unwrap()],
+        &["node 0: rotation is the zero quaternion"],
+    );
+}
+
+/// A mesh without triangles (a POINTS primitive, which is how sinew writes one) keeps its
+/// vertices and morph targets: skipping it left a weights animation pointing at a mesh
+/// without targets, so a GLB sinew wrote from a valid file did not read back (found by the
+/// `gltf` fuzz target; its input is `fuzz/seeds/gltf/no_triangles_morph.glb`).
+#[test]
+fn a_mesh_without_triangles_keeps_its_morph_targets() {
+    let d = dir("points");
+    // Three vertices, one morph target moving each by +1 z, weight keys 0 and 1.
+    let buffer = "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAIA/AAAAAAAAAAAAAIA/\
+                  AAAAAAAAAAAAAIA/AAAAAAAAgD8AAAAAAACAPw==";
+    let text = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"name":"dots","mesh":0}}],
+        "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"mode":0,"targets":[{{"POSITION":1}}]}}],"weights":[0]}}],
+        "buffers":[{{"byteLength":88,"uri":"data:application/octet-stream;base64,{buffer}"}}],
+        "bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":36}},{{"buffer":0,"byteOffset":36,"byteLength":36}},
+                       {{"buffer":0,"byteOffset":72,"byteLength":8}},{{"buffer":0,"byteOffset":80,"byteLength":8}}],
+        "accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}},
+                     {{"bufferView":1,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,1],"max":[0,0,1]}},
+                     {{"bufferView":2,"componentType":5126,"count":2,"type":"SCALAR","min":[0],"max":[1]}},
+                     {{"bufferView":3,"componentType":5126,"count":2,"type":"SCALAR"}}],
+        "animations":[{{"samplers":[{{"input":2,"output":3}}],"channels":[{{"sampler":0,"target":{{"node":0,"path":"weights"}}}}]}}]}}"#
+    );
+    let gltf = write(&d, "points.gltf", text);
+    let out = d.join("points.ron");
+    let r = sinew(&["import", &gltf, "-o", out.to_str().unwrap()]);
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
+    let rig = std::fs::read_to_string(&out).unwrap();
+    assert!(
+        rig.contains("dots_weights_crv.outputValue[0] -> dots_blend0.weight[0]"),
+        "the morph target is imported: {rig}"
+    );
+}

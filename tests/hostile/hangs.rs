@@ -105,6 +105,74 @@ fn long_chains_import_and_check() {
     );
 }
 
+/// A chain of `n` joints, each at (1, 0, 0) in its parent (`j0` at (1, 0, 0) in the world):
+/// joint `j{k}` is at (k + 1, 0, 0).
+fn joint_chain(n: usize) -> String {
+    let mut text = String::from("Rig(\n  nodes: {\n    \"j0\": joint(translate: (1, 0, 0)),\n");
+    for i in 1..n {
+        text += &format!("    \"j{i}\": joint(parent: \"j{}\", translate: (1, 0, 0)),\n", i - 1);
+    }
+    text + "  },\n)\n"
+}
+
+/// A 20,000-joint chain evaluates, lazily and compiled, to the closed form: the last joint
+/// is 20,000 units along x, every other element of its world matrix the identity's. (The
+/// release build's 100,000-joint numbers are in `benches/chain.rs` and docs/rig-format.md;
+/// 20,000 keeps this under a few seconds in a debug build.)
+#[test]
+fn a_20000_joint_chain_evaluates_to_the_closed_form() {
+    let d = dir("chain_eval");
+    let n = 20_000;
+    let rig = write(&d, "chain.ron", joint_chain(n));
+    let last = format!("j{}.worldMatrix", n - 1);
+    for lazy in [true, false] {
+        let mut args = vec!["eval", &rig, "--frames", "1", "--print", &last];
+        if lazy {
+            args.push("--lazy");
+        }
+        let r = sinew(&args);
+        assert_eq!(r.code, Some(0), "lazy {lazy}: {}", r.stderr);
+        // Frame 1, then the 16 elements of the column-major matrix (12 is the x translation).
+        let row: Vec<f64> = r
+            .stdout
+            .lines()
+            .last()
+            .unwrap()
+            .split(',')
+            .skip(1)
+            .map(|x| x.parse().unwrap())
+            .collect();
+        let mut expect = [
+            1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0,
+        ];
+        expect[12] = n as f64;
+        assert_eq!(row, expect, "lazy {lazy}");
+    }
+}
+
+/// A 100,000-long chain of input-to-input connections (`n{k-1}.translate -> n{k}.translate`)
+/// evaluates lazily: reading the last node walked the chain recursively and overflowed the
+/// stack (an abort). The value is the first node's translate, passed down unchanged.
+#[test]
+fn a_100000_long_input_chain_evaluates_lazily() {
+    let d = dir("input_chain");
+    let n = 100_000;
+    let mut text = String::from("Rig(\n  nodes: {\n    \"n0\": transform(translate: (1, 2, 3)),\n");
+    for i in 1..n {
+        text += &format!("    \"n{i}\": transform(),\n");
+    }
+    text += "  },\n  connections: [\n";
+    for i in 1..n {
+        text += &format!("    \"n{}.translate -> n{i}.translate\",\n", i - 1);
+    }
+    text += "  ],\n)\n";
+    let rig = write(&d, "input_chain.ron", text);
+    let last = format!("n{}.translate", n - 1);
+    let r = sinew(&["eval", &rig, "--lazy", "--frames", "1", "--print", &last]);
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
+    assert!(r.stdout.ends_with("1,1.0,2.0,3.0\n"), "{}", r.stdout);
+}
+
 /// `--frames 0..=9999999` streams: the first frames arrive while the rest are still to be
 /// evaluated (buffered, the output was 3.7 GB before the first byte, past the memory cap),
 /// and closing the pipe ends the run quietly.

@@ -246,6 +246,14 @@ impl Graph {
         out
     }
 
+    /// The number of connections (what [`Graph::connections`] lists, without listing them).
+    pub fn connection_count(&self) -> usize {
+        let elems = self.nodes.values().flat_map(|n| n.attrs.iter().flat_map(|a| &a.elems));
+        elems
+            .map(|e| e.source.is_some() as usize + e.comp_sources.as_ref().map_or(0, |cs| cs.iter().flatten().count()))
+            .sum()
+    }
+
     /// Parents `child` under `parent` (or unparents with `None`): connects the
     /// parent's world matrix to the child's parent matrix, plus the extra
     /// links both node types declare (see [`crate::DagSpec`]). Fails without
@@ -254,7 +262,9 @@ impl Graph {
         let cd = self.data(child)?;
         let child_name = cd.name.clone();
         let parent_label = parent.and_then(|p| self.node_name(p)).unwrap_or("-").to_string();
-        let Some(cdag) = cd.spec().dag.clone() else {
+        // The node types (cheap to clone), whose specs outlive the edits below.
+        let ckind = cd.kind.clone();
+        let Some(cdag) = ckind.spec().dag.as_ref() else {
             return Err(Error::BadParent {
                 child: child_name,
                 parent: parent_label,
@@ -298,7 +308,8 @@ impl Graph {
             parent: parent_label.clone(),
             reason,
         };
-        let Some(pdag) = pd.spec().dag.clone() else {
+        let pkind = pd.kind.clone();
+        let Some(pdag) = pkind.spec().dag.as_ref() else {
             return Err(bad(format!("type {} has no DAG hookup", pd.type_name)));
         };
         if self.is_dag_ancestor(child, parent) {
@@ -382,27 +393,65 @@ impl Graph {
 
     /// Reads the value that flows into `plug` from its sources (without
     /// evaluating them): used by pulls after the sources are clean. Follows
-    /// input-to-input chains and assembles component connections.
+    /// input-to-input chains and assembles component connections, with an explicit
+    /// stack (a chain of connections may be as long as the graph).
     pub(crate) fn resolve_source_value(&self, plug: Plug) -> Option<Value> {
-        let data = self.nodes.get(plug.node)?;
-        let store = data.attrs.get(plug.attr.index())?;
-        let e = &store.elems[store.find(plug.elem())?];
-        let whole = if let Some(s) = e.source {
-            self.resolve_source_value(s)?
-        } else {
-            let mut value = e.value.clone();
-            if let (Some(cs), Value::Vec3(v)) = (&e.comp_sources, &mut value) {
-                for (k, s) in cs.iter().enumerate() {
-                    if let Some(x) = s.and_then(|s| self.resolve_source_value(s)).and_then(|x| x.as_f64()) {
-                        v[k] = x;
-                    }
-                }
-            }
-            value
-        };
-        match plug.component {
+        /// Work left: a plug to read, a component to take of the value read last, or a
+        /// vec3 to overlay with the values of its component sources (read last, in order).
+        enum Task {
+            Read(Plug),
+            Take(Option<u8>),
+            Overlay(Option<u8>, Value, [bool; 3]),
+        }
+        let take = |component: Option<u8>, whole: Value| match component {
             Some(k) => whole.component(k).map(Value::Float),
             None => Some(whole),
+        };
+        let mut tasks = vec![Task::Read(plug)];
+        let mut values: Vec<Option<Value>> = Vec::new();
+        while let Some(task) = tasks.pop() {
+            match task {
+                Task::Read(p) => {
+                    let e = self
+                        .nodes
+                        .get(p.node)
+                        .and_then(|d| d.attrs.get(p.attr.index()))
+                        .and_then(|store| store.elems.get(store.find(p.elem())?));
+                    let Some(e) = e else {
+                        values.push(None);
+                        continue;
+                    };
+                    match (e.source, &e.comp_sources, &e.value) {
+                        (Some(s), _, _) => {
+                            tasks.push(Task::Take(p.component));
+                            tasks.push(Task::Read(s));
+                        }
+                        (None, Some(cs), Value::Vec3(_)) => {
+                            tasks.push(Task::Overlay(p.component, e.value.clone(), cs.map(|s| s.is_some())));
+                            tasks.extend(cs.iter().rev().flatten().map(|&s| Task::Read(s)));
+                        }
+                        (None, _, v) => values.push(take(p.component, v.clone())),
+                    }
+                }
+                Task::Take(component) => {
+                    let v = values.pop().flatten();
+                    values.push(v.and_then(|v| take(component, v)));
+                }
+                Task::Overlay(component, mut whole, present) => {
+                    let n = present.iter().filter(|&&b| b).count();
+                    let read = values.split_off(values.len().saturating_sub(n));
+                    if let Value::Vec3(v) = &mut whole {
+                        let ks = (0..3).filter(|&k| present[k]);
+                        for (k, x) in ks.zip(read) {
+                            if let Some(x) = x.and_then(|x| x.as_f64()) {
+                                v[k] = x;
+                            }
+                        }
+                    }
+                    values.push(take(component, whole));
+                }
+            }
         }
+        values.pop().flatten()
     }
 }

@@ -7,7 +7,7 @@
 //! `deleteAttr` does) and renumbers the node's later custom attributes in every
 //! connection that names them.
 
-use super::store::{AttrStore, Elem, GroupState};
+use super::store::{AttrStore, Elem, Elems, GroupState};
 use super::{Graph, NodeId, Plug};
 use crate::custom::node_type_with;
 use crate::error::{Error, Result};
@@ -49,9 +49,9 @@ impl Graph {
         self.next_ord += 1;
         let store = AttrStore {
             elems: if attr.multi {
-                Vec::new()
+                Elems::new()
             } else {
-                vec![Elem::new(0, attr.default.clone())]
+                smallvec::smallvec![Elem::new(0, attr.default.clone())]
             },
             ord: self.next_ord,
         };

@@ -1,7 +1,7 @@
 //! Graph edits: adding, removing and renaming nodes, and setting input values.
 
 use super::custom_edit::elem_links;
-use super::store::{AttrStore, Elem, GroupState};
+use super::store::{AttrStore, Elem, Elems, GroupState};
 use super::{Graph, NodeData, NodeId, Plug};
 use crate::error::{Error, Result};
 use crate::spec::Direction;
@@ -40,9 +40,9 @@ impl Graph {
             .iter()
             .map(|a| AttrStore {
                 elems: if a.multi {
-                    Vec::new()
+                    Elems::new()
                 } else {
-                    vec![Elem::new(0, a.default.clone())]
+                    smallvec::smallvec![Elem::new(0, a.default.clone())]
                 },
                 ord: 0,
             })
@@ -247,7 +247,7 @@ impl Graph {
             return;
         }
         let old = std::mem::take(&mut store.elems);
-        let mut merged = Vec::with_capacity(old.len() + indices.len());
+        let mut merged = Elems::with_capacity(old.len() + indices.len());
         let mut new = indices.into_iter().peekable();
         for e in old {
             while let Some(i) = new.next_if(|&i| i < e.index) {

@@ -179,28 +179,32 @@ impl Graph {
         errors
     }
 
-    /// Groups that must be clean before the value flowing into `plug` is current.
+    /// Groups that must be clean before the value flowing into `plug` is current: the
+    /// dirty groups computing the outputs at the ends of its chain of sources. Walks
+    /// input-to-input chains with an explicit stack (a chain may be as long as the graph).
     fn upstream_groups(&self, plug: Plug, out: &mut Vec<(NodeId, u16)>) {
-        let Some(data) = self.nodes.get(plug.node) else { return };
-        let spec = data.spec();
-        if !spec.attr(plug.attr).is_input() {
-            if let Some(g) = spec.group_of(plug.attr) {
-                if data.groups[g as usize].dirty {
-                    out.push((plug.node, g));
+        let mut stack = vec![plug];
+        while let Some(plug) = stack.pop() {
+            let Some(data) = self.nodes.get(plug.node) else {
+                continue;
+            };
+            let spec = data.spec();
+            if !spec.attr(plug.attr).is_input() {
+                if let Some(g) = spec.group_of(plug.attr) {
+                    if data.groups[g as usize].dirty {
+                        out.push((plug.node, g));
+                    }
                 }
+                continue;
             }
-            return;
-        }
-        let store = &data.attrs[plug.attr.index()];
-        let Some(k) = store.find(plug.elem()) else { return };
-        let e = &store.elems[k];
-        if let Some(s) = e.source {
-            self.upstream_groups(s, out);
-        }
-        if let Some(cs) = &e.comp_sources {
-            for s in cs.iter().flatten() {
-                self.upstream_groups(*s, out);
+            let store = &data.attrs[plug.attr.index()];
+            let Some(k) = store.find(plug.elem()) else { continue };
+            let e = &store.elems[k];
+            // Pushed in reverse, popped in order: the whole source, then components 0..3.
+            if let Some(cs) = &e.comp_sources {
+                stack.extend(cs.iter().rev().flatten().copied());
             }
+            stack.extend(e.source);
         }
     }
 

@@ -28,6 +28,7 @@ use crate::value::AttrType;
 use store::{AttrStore, GroupState};
 
 pub use eval::EvalStats;
+pub(crate) use order::attr_topological_order;
 
 /// The largest element index of a multi attribute: 1,048,575 (2^20 − 1). Nodes may size
 /// arrays by the largest element index (a `skinCluster`'s palette holds `index + 1`

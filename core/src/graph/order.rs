@@ -67,13 +67,12 @@ impl Graph {
 
     /// Gives the attributes of a new node positions after every existing vertex.
     pub(crate) fn place_new_node(&mut self, node: NodeId) {
-        let Some(data) = self.nodes.get(node) else { return };
-        let order = attr_topological_order(data.kind.clone().spec());
-        for a in order {
+        let Some(data) = self.nodes.get_mut(node) else { return };
+        let kind = data.kind.clone();
+        for a in &kind.spec().attr_order {
             self.next_ord += 1;
-            let ord = self.next_ord;
-            if let Some(store) = self.nodes.get_mut(node).and_then(|n| n.attrs.get_mut(a.index())) {
-                store.ord = ord;
+            if let Some(store) = data.attrs.get_mut(a.index()) {
+                store.ord = self.next_ord;
             }
         }
     }

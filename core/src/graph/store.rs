@@ -2,8 +2,13 @@
 //! its elements (one for a single attribute, any number for a multi), each
 //! with its value, its change stamp and its connections.
 
+use smallvec::SmallVec;
+
 use crate::graph::Plug;
 use crate::value::Value;
+
+/// The elements of one attribute: a single attribute's one element is stored inline.
+pub(crate) type Elems = SmallVec<[Elem; 1]>;
 
 /// One plug's state in the lazy graph.
 #[derive(Clone, Debug)]
@@ -47,7 +52,7 @@ impl Elem {
 /// The elements of one attribute, sorted by logical index.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct AttrStore {
-    pub elems: Vec<Elem>,
+    pub elems: Elems,
     /// The attribute's position in the graph's topological order (`order.rs`): every
     /// dependency edge goes from a lower to a higher position. Given by
     /// `Graph::place_new_node` when the node is added.

@@ -79,6 +79,31 @@ fn resolve(graph: &Graph, path: &str, span: &Span, quiet: &mut Quiet<'_>, diags:
 
 type EdgeKey = (NodeId, AttrId, NodeId, AttrId);
 
+/// What made a dependency edge, for the notes of a cycle or conflict error: parenting the
+/// flat node at this index, or the connection at this index. The note's text is written
+/// only when an error needs it.
+#[derive(Clone, Copy)]
+enum EdgeOrigin {
+    Parent(usize),
+    Connection(usize),
+}
+
+/// The position and text of the note naming what made an edge.
+fn edge_note(origin: EdgeOrigin, flat: &Flat, g: &Graph) -> Option<(Span, String)> {
+    match origin {
+        EdgeOrigin::Parent(k) => {
+            let n = flat.nodes.get(k)?;
+            let (p, span) = n.parent.as_ref()?;
+            Some((span.clone(), format!("parenting {} under {p}", n.name)))
+        }
+        EdgeOrigin::Connection(k) => {
+            let c = flat.conns.get(k)?;
+            let (s, d) = (g.plug(&c.src).ok()?, g.plug(&c.dst).ok()?);
+            Some((c.src_span.clone(), format!("{} -> {}", g.plug_name(s), g.plug_name(d))))
+        }
+    }
+}
+
 /// `nodes` in reverse depth-first postorder of the `edges` among them: an order where
 /// every edge goes forward when the node-level graph is acyclic (node-level loops are
 /// allowed; they leave some edges backward). Linear in nodes and edges.
@@ -223,8 +248,8 @@ pub(super) fn build_graph(
             }
         }
     }
-    let mut edges: HashMap<EdgeKey, (Span, String)> = HashMap::new();
-    for (n, id) in flat.nodes.iter().zip(&ids) {
+    let mut edges: HashMap<EdgeKey, EdgeOrigin> = HashMap::new();
+    for (k, (n, id)) in flat.nodes.iter().zip(&ids).enumerate() {
         let (Some(id), Some((p, pspan))) = (*id, &n.parent) else {
             continue;
         };
@@ -245,13 +270,11 @@ pub(super) fn build_graph(
         };
         match g.set_parent(id, Some(pid)) {
             Ok(()) => {
-                if let Some(dag) = g.node_spec(id).and_then(|s| s.dag.clone()) {
+                let Some(kind) = g.node_kind(id) else { continue };
+                if let Some(dag) = &kind.spec().dag {
                     for dst_attr in std::iter::once(dag.parent_matrix).chain(dag.links.iter().map(|l| l.child_input)) {
                         if let Some(src) = g.source_of(Plug::new(id, dst_attr)) {
-                            edges.insert(
-                                (src.node, src.attr, id, dst_attr),
-                                (pspan.clone(), format!("parenting {} under {p}", n.name)),
-                            );
+                            edges.insert((src.node, src.attr, id, dst_attr), EdgeOrigin::Parent(k));
                         }
                     }
                 }
@@ -262,24 +285,28 @@ pub(super) fn build_graph(
             ),
         }
     }
-    for (c, &(s, d)) in flat.conns.iter().zip(&resolved) {
+    for (k, (c, &(s, d))) in flat.conns.iter().zip(&resolved).enumerate() {
         let (Some(s), Some(d)) = (s, d) else { continue };
-        let text = format!("{} -> {}", g.plug_name(s), g.plug_name(d));
         match g.connect(s, d) {
             Ok(()) => {
-                edges.insert((s.node, s.attr, d.node, d.attr), (c.src_span.clone(), text));
+                edges.insert((s.node, s.attr, d.node, d.attr), EdgeOrigin::Connection(k));
             }
             Err(Error::Cycle { cycle, .. }) => {
                 let mut diag = Diagnostic::new(
                     c.src_span.clone(),
-                    format!("connection {text} closes a plug cycle: {}", cycle.join(" -> ")),
+                    format!(
+                        "connection {} -> {} closes a plug cycle: {}",
+                        g.plug_name(s),
+                        g.plug_name(d),
+                        cycle.join(" -> ")
+                    ),
                 )
                 .hint("plugs cannot depend on themselves; remove one of the connections in the cycle");
                 if let Some(path) = g.dependency_path((d.node, d.attr), (s.node, s.attr)) {
                     for w in path.windows(2) {
                         let key = (w[0].0, w[0].1, w[1].0, w[1].1);
-                        if let Some((sp, t)) = edges.get(&key) {
-                            diag = diag.note(sp.clone(), t.clone());
+                        if let Some((sp, t)) = edges.get(&key).and_then(|&o| edge_note(o, flat, &g)) {
+                            diag = diag.note(sp, t);
                         }
                     }
                 }
@@ -313,8 +340,9 @@ pub(super) fn build_graph(
                     .source_of(d)
                     .or_else(|| (0..3).find_map(|k| g.source_of(d.component(k))))
                 {
-                    if let Some((sp, t)) = edges.get(&(src.node, src.attr, d.node, d.attr)) {
-                        diag = diag.note(sp.clone(), t.clone());
+                    let origin = edges.get(&(src.node, src.attr, d.node, d.attr));
+                    if let Some((sp, t)) = origin.and_then(|&o| edge_note(o, flat, &g)) {
+                        diag = diag.note(sp, t);
                     }
                 }
                 diags.push(diag);

@@ -1027,8 +1027,7 @@ pub fn load_rig_with_limits(
     exp.files.insert(key.clone(), Ok(scope.clone()));
     let mut records = Vec::new();
     let mut stack = vec![(fpath.display().to_string(), Span::new(&fpath, 1, 1))];
-    let body = scope.doc.body.clone();
-    let flat = exp.expand_body(&body, &scope, &mut stack, Some(&mut records));
+    let flat = exp.expand_body(&scope.doc.body, &scope, &mut stack, Some(&mut records));
     let mut diags = std::mem::take(&mut exp.diags);
     if exp.over_limit {
         diags.finish();

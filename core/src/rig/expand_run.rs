@@ -26,6 +26,9 @@ pub(super) fn run(
         .enumerate()
         .filter_map(|(k, (n, id))| (!n.authoring.is_empty()).then_some((k, (*id)?)))
         .collect();
+    if todo.is_empty() {
+        return Vec::new();
+    }
     let mut made: Vec<Expansion> = todo
         .iter()
         .map(|&(k, _)| Expansion {

@@ -9,6 +9,7 @@ mod bvh;
 mod gltf_read;
 mod gltf_write;
 mod precision;
+mod scene_validate;
 pub(crate) mod validator;
 
 /// The shared third-party assets folder, or `None` (after printing why) when absent.
