@@ -3,33 +3,14 @@
 //! (surface) → deltaMush → tension → skinCluster` once warm, with the cluster handle and a
 //! joint moving every frame (dynamic inputs), normals on.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 
 use glam::{DMat4, DVec3, Vec2, Vec3};
 use sinew_core::{CompileOptions, Graph, Instance, Mesh, Program, Time, Value, Weights};
 
-struct Counting;
-static ALLOCS: AtomicUsize = AtomicUsize::new(0);
-
-// SAFETY: forwards every call to the system allocator unchanged; only counts.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::Relaxed);
-        System.alloc(l)
-    }
-    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
-        System.dealloc(p, l)
-    }
-    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::Relaxed);
-        System.realloc(p, l, n)
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
+#[path = "common/counting_alloc.rs"]
+mod counting_alloc;
+use counting_alloc::allocations;
 
 fn grid(n: usize) -> Mesh {
     let mut m = Mesh::default();
@@ -143,10 +124,11 @@ fn a_compiled_deformer_chain_frame_allocates_nothing() {
     };
     assert_eq!(first.positions.len(), n);
     drop(first);
-    let before = ALLOCS.load(Ordering::Relaxed);
+    let before = allocations();
     for k in 4..24 {
         frame(&mut inst, k);
     }
-    let allocs = ALLOCS.load(Ordering::Relaxed) - before;
+    let allocs = allocations() - before;
     assert_eq!(allocs, 0, "{allocs} allocations in 20 compiled frames");
+    counting_alloc::assert_counter_counts();
 }

@@ -7,33 +7,14 @@
 //! moved curves and meshes are built before counting, so setting one is a reference-count
 //! increment), normals on. One test per binary: the counter is process-wide.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 
 use glam::{DMat4, DVec3, Vec2, Vec3};
 use sinew_core::{CompileOptions, Curve, Graph, Instance, Mesh, Program, Time, Value};
 
-struct Counting;
-static ALLOCS: AtomicUsize = AtomicUsize::new(0);
-
-// SAFETY: forwards every call to the system allocator unchanged; only counts.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::Relaxed);
-        System.alloc(l)
-    }
-    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
-        System.dealloc(p, l)
-    }
-    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::Relaxed);
-        System.realloc(p, l, n)
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
+#[path = "common/counting_alloc.rs"]
+mod counting_alloc;
+use counting_alloc::allocations;
 
 /// An `n × n` sheet over `[−0.5, 0.5]²` at height `z`, wavy so that normals change.
 fn sheet(n: usize, z: f32) -> Mesh {
@@ -238,12 +219,13 @@ fn the_other_deformers_compiled_frames_allocate_nothing() {
         .any(|(a, b)| (*a - *b).length() > 1e-3));
     let warm = first.positions.clone();
     drop(first);
-    let before = ALLOCS.load(Ordering::Relaxed);
+    let before = allocations();
     for k in 6..27 {
         frame(&mut inst, k);
     }
-    let allocs = ALLOCS.load(Ordering::Relaxed) - before;
+    let allocs = allocations() - before;
     assert_eq!(allocs, 0, "{allocs} allocations in 21 compiled frames");
+    counting_alloc::assert_counter_counts();
     // The frames were computed: the last one (inputs of phase 1) differs from the warm one
     // (phase 0).
     let last = match inst.get(&out) {

@@ -2,29 +2,13 @@
 //! allocating: a counting global allocator proves it over compiled frames
 //! (the compilation itself happens once, in the first evaluation).
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 
 use sinew_core::{CompileOptions, Graph, Instance, Program, Time, Value};
 
-struct Counting;
-
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-// SAFETY: forwards every call to the system allocator unchanged; only counts.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
+#[path = "common/counting_alloc.rs"]
+mod counting_alloc;
+use counting_alloc::allocations;
 
 /// One test runs both cases one after the other: the counter is global, and a second
 /// test thread (or the harness reporting it) would allocate during the count.
@@ -52,14 +36,15 @@ fn element_plugs() {
     let mut inst = Instance::new(program.clone());
     inst.evaluate(Time::new(0.0, 24.0)).expect("first frame");
     let h = program.handle("ball.translateY").expect("handle");
-    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    let before = allocations();
     let mut moved = false;
     for f in 1..200 {
         inst.evaluate(Time::new(f as f64, 24.0)).expect("frame");
         moved |= inst.get(&h).as_f64().is_some_and(|y| y != 0.0);
     }
-    let after = ALLOCATIONS.load(Ordering::SeqCst);
+    let after = allocations();
     assert_eq!(after - before, 0, "allocations during 199 compiled frames");
+    counting_alloc::assert_counter_counts();
     assert!(moved, "the expression drove translateY");
 }
 
@@ -80,13 +65,14 @@ fn custom_attributes() {
     let mut inst = Instance::new(program.clone());
     inst.evaluate(Time::new(0.0, 24.0)).expect("first frame");
     let h = program.handle("ball.translateY").expect("handle");
-    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    let before = allocations();
     let mut moved = false;
     for f in 1..200 {
         inst.evaluate(Time::new(f as f64, 24.0)).expect("frame");
         moved |= inst.get(&h).as_f64().is_some_and(|y| y != 0.0);
     }
-    let after = ALLOCATIONS.load(Ordering::SeqCst);
+    let after = allocations();
     assert_eq!(after - before, 0, "allocations during 199 compiled frames");
+    counting_alloc::assert_counter_counts();
     assert!(moved, "the expression drove translateY");
 }

@@ -229,8 +229,14 @@ fn dense<F: PointMap>(input: &[Vec3], out: &mut [Vec3], envelope: f32, f: &F) {
         }
         v += LANES;
     }
-    for (i, (o, &p)) in out[v..].iter_mut().zip(&input[v..]).enumerate() {
-        let d = f.map(v + i, p);
+    tail(&input[v..], &mut out[v..], v, envelope, f);
+}
+
+/// The points after the last whole block of [`LANES`] (`first` is the index of
+/// `input[0]`), one at a time: `p + (f(p) − p)·envelope`.
+fn tail<F: PointMap>(input: &[Vec3], out: &mut [Vec3], first: usize, envelope: f32, f: &F) {
+    for (i, (o, &p)) in out.iter_mut().zip(input).enumerate() {
+        let d = f.map(first + i, p);
         *o = if envelope == 1.0 { d } else { p + (d - p) * envelope };
     }
 }
@@ -243,7 +249,6 @@ unsafe fn dense_avx2<F: PointMap>(input: &[Vec3], out: &mut [Vec3], envelope: f3
     use std::arch::x86_64::*;
     let n = input.len().min(out.len());
     let (input, out) = (&input[..n], &mut out[..n]);
-    let env = _mm256_set1_ps(envelope);
     let mut v = 0;
     for (ci, co) in input.chunks_exact(LANES).zip(out.chunks_exact_mut(LANES)) {
         let p = super::simd::load8(ci);
@@ -256,23 +261,10 @@ unsafe fn dense_avx2<F: PointMap>(input: &[Vec3], out: &mut [Vec3], envelope: f3
             let d = f.map(v + i, Vec3::new(b[0][i], b[1][i], b[2][i]));
             (b[0][i], b[1][i], b[2][i]) = (d.x, d.y, d.z);
         }
-        let mut d = [
-            _mm256_loadu_ps(b[0].as_ptr()),
-            _mm256_loadu_ps(b[1].as_ptr()),
-            _mm256_loadu_ps(b[2].as_ptr()),
-        ];
-        if envelope != 1.0 {
-            for (d, p) in d.iter_mut().zip(p) {
-                *d = _mm256_add_ps(p, _mm256_mul_ps(_mm256_sub_ps(*d, p), env));
-            }
-        }
-        super::simd::store8(co, d);
+        super::simd::blend_store8(co, &b, p, envelope);
         v += LANES;
     }
-    for (i, (o, &p)) in out[v..].iter_mut().zip(&input[v..]).enumerate() {
-        let d = f.map(v + i, p);
-        *o = if envelope == 1.0 { d } else { p + (d - p) * envelope };
-    }
+    tail(&input[v..], &mut out[v..], v, envelope, f);
 }
 
 /// Runs `f` (the full deformation of vertex `v` at `p`) over the active vertices:
@@ -344,10 +336,7 @@ fn dense_blocks<B: BlockMap, F: PointMap>(input: &[Vec3], out: &mut [Vec3], enve
         }
         v += LANES;
     }
-    for (i, (o, &p)) in out[v..].iter_mut().zip(&input[v..]).enumerate() {
-        let d = f.map(v + i, p);
-        *o = if envelope == 1.0 { d } else { p + (d - p) * envelope };
-    }
+    tail(&input[v..], &mut out[v..], v, envelope, f);
 }
 
 /// [`dense_blocks`] with AVX2: the same operations, with the points transposed to and from
@@ -364,7 +353,6 @@ unsafe fn dense_blocks_avx2<B: BlockMap, F: PointMap>(
     use std::arch::x86_64::*;
     let n = input.len().min(out.len());
     let (input, out) = (&input[..n], &mut out[..n]);
-    let env = _mm256_set1_ps(envelope);
     let mut v = 0;
     for (ci, co) in input.chunks_exact(LANES).zip(out.chunks_exact_mut(LANES)) {
         let p = super::simd::load8(ci);
@@ -373,24 +361,10 @@ unsafe fn dense_blocks_avx2<B: BlockMap, F: PointMap>(
             _mm256_storeu_ps(lane.as_mut_ptr(), r);
         }
         block.map_block(&mut b);
-        let mut d = [
-            _mm256_loadu_ps(b[0].as_ptr()),
-            _mm256_loadu_ps(b[1].as_ptr()),
-            _mm256_loadu_ps(b[2].as_ptr()),
-        ];
-        if envelope != 1.0 {
-            for (d, p) in d.iter_mut().zip(p) {
-                // p + (d − p)·envelope, as the portable loop.
-                *d = _mm256_add_ps(p, _mm256_mul_ps(_mm256_sub_ps(*d, p), env));
-            }
-        }
-        super::simd::store8(co, d);
+        super::simd::blend_store8(co, &b, p, envelope);
         v += LANES;
     }
-    for (i, (o, &p)) in out[v..].iter_mut().zip(&input[v..]).enumerate() {
-        let d = f.map(v + i, p);
-        *o = if envelope == 1.0 { d } else { p + (d - p) * envelope };
-    }
+    tail(&input[v..], &mut out[v..], v, envelope, f);
 }
 
 /// [`deform_points`] for kernels written per block of [`LANES`] vertices: `block` deforms a

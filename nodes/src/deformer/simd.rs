@@ -57,6 +57,29 @@ pub unsafe fn store8(p: &mut [Vec3], [x, y, z]: [__m256; 3]) {
     _mm256_storeu_ps(f.add(16), _mm256_permute2f128_ps::<0x31>(r14, r25));
 }
 
+/// Stores the deformed block `d` (one array per coordinate) into `p[0..8]`, blended with
+/// the input points `input` (as [`load8`] gave them) by `envelope`: `input + (d −
+/// input)·envelope`, the same operations as the portable loops.
+///
+/// # Safety
+/// The CPU must support AVX2 (AVX suffices); `p` must hold at least 8 points.
+#[target_feature(enable = "avx2")]
+#[inline]
+pub unsafe fn blend_store8(p: &mut [Vec3], d: &[[f32; 8]; 3], input: [__m256; 3], envelope: f32) {
+    let mut r = [
+        _mm256_loadu_ps(d[0].as_ptr()),
+        _mm256_loadu_ps(d[1].as_ptr()),
+        _mm256_loadu_ps(d[2].as_ptr()),
+    ];
+    if envelope != 1.0 {
+        let env = _mm256_set1_ps(envelope);
+        for (r, q) in r.iter_mut().zip(input) {
+            *r = _mm256_add_ps(q, _mm256_mul_ps(_mm256_sub_ps(*r, q), env));
+        }
+    }
+    store8(p, r);
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
