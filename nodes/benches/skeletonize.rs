@@ -12,20 +12,6 @@ use glam::{DMat3, DVec3};
 use sinew_core::Mesh;
 use sinew_nodes::skeletonize::{bone_heat_weights, shapes, skeletonize, SkeletonizeParams, WeightParams};
 
-/// A humanoid with about `target` vertices.
-fn humanoid_near(target: usize) -> Mesh {
-    let (mut lo, mut hi) = (4usize, 1024usize);
-    while lo + 1 < hi {
-        let mid = (lo + hi) / 2;
-        if shapes::humanoid(mid).positions.len() < target {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    shapes::humanoid(hi)
-}
-
 /// The baseline: bounding box, centroid and covariance, reading every vertex once.
 fn bounds_and_covariance(m: &Mesh) -> (DVec3, DVec3, DMat3) {
     let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
@@ -62,7 +48,7 @@ fn bench(c: &mut Criterion) {
     let params = SkeletonizeParams::default();
     let meshes: Vec<Mesh> = [300, 2_000, 20_000, 200_000]
         .iter()
-        .map(|&n| humanoid_near(n))
+        .map(|&n| shapes::humanoid_near(n))
         .collect();
     let mut g = c.benchmark_group("baseline_bounds_pca");
     g.sample_size(20)

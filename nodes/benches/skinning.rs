@@ -20,8 +20,6 @@
 //! Run briefly: `cargo bench -p sinew-nodes --no-default-features --bench skinning --
 //! --warm-up-time 1 --measurement-time 3`.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
@@ -30,26 +28,9 @@ use sinew_core::{CompileOptions, Graph, Instance, Mesh, Program, Time, Value, We
 use sinew_nodes::deform::dual_quat::DqPalette;
 use sinew_nodes::deform::skinning::{skin, skin_parallel, PreparedWeights, SkinInput, SkinMethod, SkinOutput};
 
-struct Counting;
-static ALLOCS: AtomicUsize = AtomicUsize::new(0);
-
-// SAFETY: forwards every call to the system allocator unchanged; only counts.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::Relaxed);
-        System.alloc(l)
-    }
-    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
-        System.dealloc(p, l)
-    }
-    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::Relaxed);
-        System.realloc(p, l, n)
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
+#[path = "../tests/common/counting_alloc.rs"]
+mod counting_alloc;
+use counting_alloc::allocations;
 
 const VERTICES: usize = 100_000;
 const JOINTS: usize = 64;
@@ -146,13 +127,15 @@ fn report_allocations(r: &Rig) {
         for k in 0..3 {
             frame(&mut inst, &h, k, base);
         }
-        let before = ALLOCS.load(Ordering::Relaxed);
+        let before = allocations();
         let frames = 20;
         for k in 0..frames {
             frame(&mut inst, &h, k + 3, base);
         }
-        let n = ALLOCS.load(Ordering::Relaxed) - before;
+        let n = allocations() - before;
         println!("skinCluster {name}, compiled: {n} allocations in {frames} frames");
+        // The count means something only if the counter is installed.
+        counting_alloc::assert_counter_counts();
     }
 }
 

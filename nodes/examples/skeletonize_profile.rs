@@ -10,27 +10,12 @@
 
 use std::time::{Duration, Instant};
 
-use sinew_core::Mesh;
 use sinew_nodes::skeletonize::distance::squared_distances;
 use sinew_nodes::skeletonize::levels::{components, level_graph};
 use sinew_nodes::skeletonize::symmetry::detect_mirror;
 use sinew_nodes::skeletonize::volume::{curve_graph, VolumeParams};
 use sinew_nodes::skeletonize::voxel::{open_edges, voxelize};
 use sinew_nodes::skeletonize::{bone_heat_weights, shapes, skeletonize, SkeletonizeParams, WeightParams};
-
-/// The benchmark's humanoid with about `target` vertices.
-fn humanoid_near(target: usize) -> Mesh {
-    let (mut lo, mut hi) = (4usize, 1024usize);
-    while lo + 1 < hi {
-        let mid = (lo + hi) / 2;
-        if shapes::humanoid(mid).positions.len() < target {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    shapes::humanoid(hi)
-}
 
 /// Least time of `f` over `runs` runs.
 fn least<T>(runs: usize, mut f: impl FnMut() -> T) -> Duration {
@@ -60,7 +45,7 @@ fn main() {
     let vertices: usize = args.next().and_then(|a| a.parse().ok()).unwrap_or(2000);
     let runs: usize = args.next().and_then(|a| a.parse().ok()).unwrap_or(30);
     let only_loop = args.next().is_some_and(|a| a == "loop");
-    let mesh = humanoid_near(vertices);
+    let mesh = shapes::humanoid_near(vertices);
     let params = SkeletonizeParams::default();
     let wp = WeightParams::default();
     let pipeline = || {

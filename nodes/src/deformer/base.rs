@@ -246,16 +246,11 @@ fn tail<F: PointMap>(input: &[Vec3], out: &mut [Vec3], first: usize, envelope: f
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn dense_avx2<F: PointMap>(input: &[Vec3], out: &mut [Vec3], envelope: f32, f: &F) {
-    use std::arch::x86_64::*;
     let n = input.len().min(out.len());
     let (input, out) = (&input[..n], &mut out[..n]);
     let mut v = 0;
     for (ci, co) in input.chunks_exact(LANES).zip(out.chunks_exact_mut(LANES)) {
-        let p = super::simd::load8(ci);
-        let mut b: Block = [[0.0; LANES]; 3];
-        for (lane, r) in b.iter_mut().zip(p) {
-            _mm256_storeu_ps(lane.as_mut_ptr(), r);
-        }
+        let (p, mut b) = super::simd::load8_block(ci);
         #[allow(clippy::needless_range_loop)] // one lane of each of the three arrays
         for i in 0..LANES {
             let d = f.map(v + i, Vec3::new(b[0][i], b[1][i], b[2][i]));
@@ -350,16 +345,11 @@ unsafe fn dense_blocks_avx2<B: BlockMap, F: PointMap>(
     block: &B,
     f: &F,
 ) {
-    use std::arch::x86_64::*;
     let n = input.len().min(out.len());
     let (input, out) = (&input[..n], &mut out[..n]);
     let mut v = 0;
     for (ci, co) in input.chunks_exact(LANES).zip(out.chunks_exact_mut(LANES)) {
-        let p = super::simd::load8(ci);
-        let mut b: Block = [[0.0; LANES]; 3];
-        for (lane, r) in b.iter_mut().zip(p) {
-            _mm256_storeu_ps(lane.as_mut_ptr(), r);
-        }
+        let (p, mut b) = super::simd::load8_block(ci);
         block.map_block(&mut b);
         super::simd::blend_store8(co, &b, p, envelope);
         v += LANES;

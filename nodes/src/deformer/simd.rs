@@ -57,6 +57,22 @@ pub unsafe fn store8(p: &mut [Vec3], [x, y, z]: [__m256; 3]) {
     _mm256_storeu_ps(f.add(16), _mm256_permute2f128_ps::<0x31>(r14, r25));
 }
 
+/// [`load8`] of `p[0..8]`, also stored as one array per coordinate (lane `i` → index
+/// `i`): the registers for the envelope blend and the block for the kernel.
+///
+/// # Safety
+/// The CPU must support AVX2 (AVX suffices); `p` must hold at least 8 points.
+#[target_feature(enable = "avx2")]
+#[inline]
+pub unsafe fn load8_block(p: &[Vec3]) -> ([__m256; 3], [[f32; 8]; 3]) {
+    let r = load8(p);
+    let mut b = [[0.0f32; 8]; 3];
+    for (lane, v) in b.iter_mut().zip(r) {
+        _mm256_storeu_ps(lane.as_mut_ptr(), v);
+    }
+    (r, b)
+}
+
 /// Stores the deformed block `d` (one array per coordinate) into `p[0..8]`, blended with
 /// the input points `input` (as [`load8`] gave them) by `envelope`: `input + (d −
 /// input)·envelope`, the same operations as the portable loops.

@@ -118,6 +118,21 @@ pub fn star(n: usize, arm: f32, radius: f32, around: usize) -> Mesh {
     merge(&parts)
 }
 
+/// The [`humanoid`] whose vertex count is the first at or above `target` (a bisection
+/// over `around`, capped at `around = 1024`): the benchmark and profiling meshes.
+pub fn humanoid_near(target: usize) -> Mesh {
+    let (mut lo, mut hi) = (4usize, 1024usize);
+    while lo + 1 < hi {
+        let mid = (lo + hi) / 2;
+        if humanoid(mid).positions.len() < target {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    humanoid(hi)
+}
+
 /// A T-pose humanoid about 1.8 units tall, facing +Z, built from overlapping
 /// capsules: torso, neck, head, two arms, two legs. `around` sets the density
 /// (vertex count grows roughly with `around²`).
