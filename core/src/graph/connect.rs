@@ -270,7 +270,7 @@ impl Graph {
                 parent: parent_label,
                 reason: format!(
                     "type {} has no DAG hookup (only transform-like nodes can be parented)",
-                    cd.type_name
+                    cd.type_name()
                 ),
             });
         };
@@ -310,7 +310,7 @@ impl Graph {
         };
         let pkind = pd.kind.clone();
         let Some(pdag) = pkind.spec().dag.as_ref() else {
-            return Err(bad(format!("type {} has no DAG hookup", pd.type_name)));
+            return Err(bad(format!("type {} has no DAG hookup", pd.type_name())));
         };
         if self.is_dag_ancestor(child, parent) {
             return Err(bad("the parent is the child itself or one of its descendants".into()));
@@ -320,7 +320,7 @@ impl Graph {
             Plug::new(child, cdag.parent_matrix),
         )];
         for link in &cdag.links {
-            if link.parent_type.as_ref().is_some_and(|t| *t != pd.type_name) {
+            if link.parent_type.as_ref().is_some_and(|t| t != pd.type_name()) {
                 continue;
             }
             let Some((src_attr, None)) = pd.spec().find(&link.parent_attr) else {

@@ -90,7 +90,7 @@ impl Graph {
             Some((id, _)) if !spec.is_custom(id) => {
                 return Err(bad(format!(
                     "it is an attribute of node type {}; only custom attributes can be removed",
-                    data.type_name
+                    data.type_name()
                 )))
             }
             _ => return Err(bad("the node has no custom attribute of that name".into())),

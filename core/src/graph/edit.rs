@@ -51,7 +51,6 @@ impl Graph {
         let order = self.new_order();
         let data = NodeData {
             name: name.to_string(),
-            type_name: type_name.to_string(),
             base: kind.clone(),
             kind,
             attrs,

@@ -346,7 +346,7 @@ impl Graph {
                 if let Err(e) = result {
                     return Err(Error::Compute {
                         node: data.name.clone(),
-                        node_type: data.type_name.clone(),
+                        node_type: data.type_name().to_string(),
                         message: e.message,
                     });
                 }
