@@ -105,9 +105,9 @@ impl<'g> Compiler<'g> {
             let e = &store.elems[k];
             let b = if self.outputs[key] != NO_SLOT {
                 Binding::Slot(self.outputs[key])
-            } else if let Some(src) = e.source {
+            } else if let Some(src) = e.source() {
                 self.binding_of(src, depth + 1)?
-            } else if let Some(cs) = e.comp_sources.clone() {
+            } else if let Some(cs) = e.comp_sources().copied() {
                 let own = self.own[key];
                 let mut comps = [None; 3];
                 for (k, s) in cs.iter().enumerate() {
@@ -158,7 +158,7 @@ impl<'g> Compiler<'g> {
             for (a, store) in d.attrs.iter().enumerate() {
                 let output = spec.attrs[a].direction == Direction::Output;
                 elements += store.elems.len();
-                for e in store.elems.iter().filter(|e| output || e.source.is_none()) {
+                for e in store.elems.iter().filter(|e| output || e.source().is_none()) {
                     counts[Class::of(&e.value) as usize] += 1;
                 }
             }
@@ -182,7 +182,7 @@ impl<'g> Compiler<'g> {
                         let group = spec.group_of(attr).unwrap_or(0);
                         output = self.initial.push(e.value.clone());
                         self.output_slot_producer[output as usize] = Some((ni as u32, group));
-                    } else if e.source.is_none() {
+                    } else if e.source().is_none() {
                         own = self.initial.push(e.value.clone());
                     }
                     self.own.push(own);
@@ -206,7 +206,7 @@ impl<'g> Compiler<'g> {
                     elems.push(ElemBinding {
                         index: e.index,
                         binding,
-                        driven: e.source.is_some(),
+                        driven: e.source().is_some(),
                     });
                 }
                 let ab = &mut attr_bindings[(self.attr_base[ni] + a as u32) as usize];
@@ -461,8 +461,8 @@ fn upstream_first(graph: &Graph) -> Vec<NodeId> {
         let mut up = Vec::new();
         for store in &data.attrs {
             for e in &store.elems {
-                let comps = e.comp_sources.iter().flat_map(|c| c.iter()).flatten();
-                for p in e.source.iter().chain(comps) {
+                let comps = e.comp_sources().into_iter().flatten().flatten();
+                for p in e.source().iter().chain(comps) {
                     if let Some(&i) = index.get(p.node) {
                         up.push(i);
                     }
