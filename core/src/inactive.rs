@@ -87,7 +87,7 @@ pub(crate) struct Analysis<'a> {
     /// Compiler indices of the scheduled steps, in schedule order.
     pub order: &'a [u32],
     /// Per step: the (input attribute, slot) pairs its group reads.
-    pub reads: &'a [Vec<(AttrId, u32)>],
+    pub reads: &'a crate::program_compile::PerStep<(AttrId, u32)>,
     /// Per slot: the step that writes it (`None` for input slots).
     pub producer: &'a [Option<u32>],
     /// Per slot: set every frame by the caller.

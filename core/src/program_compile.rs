@@ -16,6 +16,80 @@ use crate::program_layout;
 use crate::slots::{Class, Slots, SlotsBuilder};
 use crate::spec::{AttrId, Direction};
 
+/// A list per step in one vector (no allocation per step): the list of step `i` is
+/// `items[start[i]..start[i + 1]]`, filled step after step.
+pub(crate) struct PerStep<T> {
+    items: Vec<T>,
+    start: Vec<u32>,
+}
+
+impl<T: Copy + Ord> PerStep<T> {
+    fn with_capacity(n: usize) -> Self {
+        let mut start = Vec::with_capacity(n + 1);
+        start.push(0);
+        PerStep {
+            items: Vec::new(),
+            start,
+        }
+    }
+
+    /// Adds `x` to the list being filled.
+    fn push(&mut self, x: T) {
+        self.items.push(x);
+    }
+
+    /// Ends the list being filled (the next push starts the next step's).
+    fn close(&mut self) {
+        self.start.push(self.items.len() as u32);
+    }
+
+    /// Sorts and dedups the list being filled, then ends it.
+    fn close_sorted(&mut self) {
+        let from = *self.start.last().unwrap_or(&0) as usize;
+        self.items[from..].sort_unstable();
+        let mut keep = from;
+        for k in from..self.items.len() {
+            if k == from || self.items[k] != self.items[keep - 1] {
+                self.items[keep] = self.items[k];
+                keep += 1;
+            }
+        }
+        self.items.truncate(keep);
+        self.close();
+    }
+}
+
+impl PerStep<u32> {
+    /// The lists the other way round: step `j` lists every `i` whose list holds `j`, in
+    /// increasing `i` (a counting sort).
+    fn transposed(&self) -> PerStep<u32> {
+        let n = self.start.len() - 1;
+        let mut start = vec![0u32; n + 1];
+        for &j in &self.items {
+            start[j as usize + 1] += 1;
+        }
+        for k in 1..start.len() {
+            start[k] += start[k - 1];
+        }
+        let mut next = start.clone();
+        let mut items = vec![0u32; self.items.len()];
+        for i in 0..n {
+            for &j in &self[i] {
+                items[next[j as usize] as usize] = i as u32;
+                next[j as usize] += 1;
+            }
+        }
+        PerStep { items, start }
+    }
+}
+
+impl<T> std::ops::Index<usize> for PerStep<T> {
+    type Output = [T];
+    fn index(&self, i: usize) -> &[T] {
+        &self.items[self.start[i] as usize..self.start[i + 1] as usize]
+    }
+}
+
 /// No slot (in [`Compiler::own`] and [`Compiler::outputs`]).
 const NO_SLOT: u32 = u32::MAX;
 
@@ -260,9 +334,9 @@ impl<'g> Compiler<'g> {
             }
         }
         let n = steps.len();
-        let mut deps: Vec<Vec<u32>> = vec![Vec::new(); n];
+        let mut deps: PerStep<u32> = PerStep::with_capacity(n);
         let mut reads_dynamic = vec![false; n];
-        let mut reads: Vec<Vec<(AttrId, u32)>> = vec![Vec::new(); n];
+        let mut reads: PerStep<(AttrId, u32)> = PerStep::with_capacity(n);
         let mut buf = Vec::new();
         for (si, step) in steps.iter().enumerate() {
             let spec = step.kind.spec();
@@ -272,32 +346,27 @@ impl<'g> Compiler<'g> {
                     buf.clear();
                     tables.slots_read(eb.binding, &mut buf);
                     for &s in &buf {
-                        reads[si].push((a, s));
+                        reads.push((a, s));
                         if dynamic_slot[s as usize] {
                             reads_dynamic[si] = true;
                         }
                         if let Some(p) = self.output_slot_producer[s as usize] {
                             if let Some(d) = step_of(&p) {
                                 if d as usize != si {
-                                    deps[si].push(d);
+                                    deps.push(d);
                                 }
                             }
                         }
                     }
                 }
             }
+            reads.close();
+            deps.close_sorted();
         }
         // Kahn's algorithm, lowest step index first for a stable order.
-        let mut indegree = vec![0u32; n];
-        let mut users: Vec<Vec<u32>> = vec![Vec::new(); n];
-        for (si, ds) in deps.iter_mut().enumerate() {
-            ds.sort_unstable();
-            ds.dedup();
-            indegree[si] = ds.len() as u32;
-            for &d in ds.iter() {
-                users[d as usize].push(si as u32);
-            }
-        }
+        let indegree: Vec<u32> = (0..n).map(|si| deps[si].len() as u32).collect();
+        let users = deps.transposed();
+        let mut indegree = indegree;
         let mut ready: std::collections::BinaryHeap<std::cmp::Reverse<u32>> = (0..n as u32)
             .filter(|&i| indegree[i as usize] == 0)
             .map(std::cmp::Reverse)
