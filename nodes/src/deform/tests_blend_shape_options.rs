@@ -173,3 +173,22 @@ fn a_non_finite_target_matrix_is_an_error_naming_it() {
     let out = both(&mut g, "bs.outputGeometry");
     close(out.positions[4], base()[4] + D4.as_vec3());
 }
+
+#[test]
+fn a_rig_file_drives_a_transform_space_target_by_a_joint() {
+    // The joint is turned 90° about z; target 0 (transform space, vertex 4, delta +x in the
+    // joint's space) therefore moves +y; target 1 (object space) keeps its +x.
+    let text = r#"Rig(nodes: {
+        "plane": polyPlane(width: 2, height: 2, subdivisionsWidth: 2, subdivisionsHeight: 2, deformers: ["bs"]),
+        "jaw": joint(rotate: (0, 0, 90)),
+        "bs": blendShape(weight: [1, 1], targetIndices: [[4], [0]], targetDeltas: [[(1, 0, 0)], [(1, 0, 0)]],
+            postDeformersMode: [transformSpace, off]),
+    }, connections: ["jaw.worldMatrix -> bs.targetMatrix[0]"])"#;
+    let reg = crate::registry().unwrap();
+    let mut r = sinew_core::load_rig_str(text, std::path::Path::new("mem.ron"), &reg)
+        .unwrap_or_else(|d| panic!("{}", d.render()));
+    let rest = both(&mut r.graph, "plane.output");
+    let out = both(&mut r.graph, "bs.outputGeometry");
+    close(out.positions[4], rest.positions[4] + Vec3::Y);
+    close(out.positions[0], rest.positions[0] + Vec3::X);
+}
