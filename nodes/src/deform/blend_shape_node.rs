@@ -35,13 +35,15 @@
 //! downstream skins them) and `targetCache` (object: the parsed `Vec<Target>`).
 //!
 //! Compute groups: every target attribute feeds `targetCache` (parsed once into the kernel's
-//! [`Target`] structs); `outputGeometry` reads `inputGeometry`, `weight`, `envelope` and the
-//! cache, so animating weights costs only the sparse delta sums, without allocation in
+//! [`Target`] structs); `outputGeometry` reads `inputGeometry`, `weight`, `envelope`,
+//! `supportNegativeWeights`, `targetMatrix` and the cache, so animating weights (or a
+//! transform-space target's matrix) costs only the sparse delta sums, without allocation in
 //! compiled mode (the `f32` weights go through the per-thread scratch of
 //! [`super::skin_cluster::with_scratch`]).
 //!
 //! Errors: `targetIndices`/`targetDeltas` (or in-between lists) of different lengths, a
-//! negative vertex index, or an in-between naming a negative target. Indices beyond the
+//! negative vertex index, an in-between naming a negative target, or a non-finite
+//! `targetMatrix` reaching a transform-space target through a connection. Indices beyond the
 //! mesh, and unusable in-between weights (0, 1, non-finite, repeated), are skipped as the
 //! kernel documents.
 
