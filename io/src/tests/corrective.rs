@@ -1,0 +1,228 @@
+//! `invert_shape`: corrective targets through a skinCluster, checked against hand-inverted
+//! matrices (a joint turned 90° about z: the posed offset turned back by −90°; two joints
+//! blended 0.5/0.5: the inverse of `(R + I)/2` written out), re-evaluated through the rig,
+//! the graph left bit for bit as it was, and the errors.
+
+use std::path::Path;
+
+use glam::{DVec3, Vec3};
+use proptest::prelude::*;
+use sinew_core::rig::{graph_eq, load_rig_str};
+use sinew_core::{Graph, Time, Value};
+
+use crate::corrective::{invert_shape, set_target, Corrective, CorrectiveOptions};
+
+/// Four vertices, `bs → skin`; `SKIN` is the skinCluster's fields, `EXTRA` more nodes.
+fn rig(skin: &str, extra: &str, connections: &str) -> String {
+    format!(
+        r#"Rig(nodes: {{
+            "j0": joint(rotate: (0, 0, 90)),
+            "j1": joint(translate: (0, 0, 5)),
+            "body": mesh(inMesh: (
+                positions: [(1, 0, 0), (0, 1, 0), (0, 0, 1), (1, 1, 1)],
+                triangles: [(0, 1, 2), (0, 2, 3)],
+            ), deformers: ["bs", "skin"]),
+            "bs": blendShape(),
+            "skin": skinCluster({skin}),
+            {extra}
+        }}, connections: ["j0.worldMatrix -> skin.matrix[0]", "j1.worldMatrix -> skin.matrix[1]", {connections}])"#
+    )
+}
+
+const ALL_J0: &str = "weightList: [[(0, 1.0)], [(0, 1.0)], [(0, 1.0)], [(0, 1.0)]]";
+
+fn load(text: &str) -> Graph {
+    let reg = sinew_nodes::registry().unwrap();
+    match load_rig_str(text, Path::new("corrective.ron"), &reg) {
+        Ok(r) => r.graph,
+        Err(d) => panic!("{}", d.render()),
+    }
+}
+
+fn mesh(g: &mut Graph, plug: &str) -> Vec<Vec3> {
+    match g.get_path(plug).unwrap() {
+        Value::Mesh(m) => m.positions.clone(),
+        v => panic!("{v}"),
+    }
+}
+
+/// The posed mesh with vertex `v` moved by `offset`.
+fn sculpt(g: &mut Graph, v: usize, offset: Vec3) -> Vec<Vec3> {
+    let mut s = mesh(g, "skin.outputGeometry");
+    s[v] += offset;
+    s
+}
+
+/// Writes the target, turns it on and checks the chain reproduces `sculpt` within `tol`.
+fn reproduces(g: &mut Graph, c: &Corrective, sculpt: &[Vec3], tol: f32) {
+    set_target(g, "bs", 0, c).unwrap();
+    if g.source_of(g.plug("bs.weight[0]").unwrap()).is_none() {
+        g.set_path("bs.weight[0]", Value::Float(1.0)).unwrap();
+    }
+    let out = mesh(g, "skin.outputGeometry");
+    for (v, (o, s)) in out.iter().zip(sculpt).enumerate() {
+        assert!((*o - *s).length() < tol, "vertex {v}: {o} vs sculpt {s}");
+    }
+}
+
+fn close(a: DVec3, b: DVec3, tol: f64) {
+    assert!((a - b).length() < tol, "{a} vs {b}");
+}
+
+#[test]
+fn a_joint_turned_90_degrees_turns_the_offset_back() {
+    // j0 is keyed from 0° at frame 0 to 90° about z at frame 10; the graph stands at frame 0.
+    let text = rig(
+        ALL_J0,
+        r#""turn": animCurveTA(keyTime: [0, 10], keyValue: [0.0, 90.0]),"#,
+        r#""turn.output -> j0.rotateZ""#,
+    );
+    let mut g = load(&text);
+    g.set_time(Time::new(10.0, 24.0));
+    // Posed: R·p. Moving vertex 1 by +y in posed space needs R⁻¹·(0, 1, 0) = (1, 0, 0).
+    let s = sculpt(&mut g, 1, Vec3::Y);
+    g.set_time(Time::new(0.0, 24.0));
+    let mut opts = CorrectiveOptions::new("bs", 0);
+    opts.time = Some(Time::new(10.0, 24.0));
+    let c = invert_shape(&mut g, &s, &opts).unwrap();
+    assert_eq!(c.indices, vec![1], "only the sculpted vertex gets a delta");
+    close(c.deltas[0], DVec3::X, 1e-6);
+    assert_eq!(c.output, "skin.outputGeometry");
+    assert!(c.max_residual < 1e-6, "{}", c.max_residual);
+    assert_eq!(c.moved_elsewhere, 0.0, "skinning is per vertex");
+    assert_eq!(g.time(), Time::new(0.0, 24.0), "the graph's time is put back");
+    g.set_time(Time::new(10.0, 24.0));
+    reproduces(&mut g, &c, &s, 1e-6);
+}
+
+#[test]
+fn two_joints_at_half_weight_invert_the_blended_matrix() {
+    // Vertex 3 is bound half to j0 (R: 90° about z) and half to j1 (a translation): its
+    // delta moves by M = (R + I)/2 = [[.5, -.5, 0], [.5, .5, 0], [0, 0, 1]], whose inverse
+    // is [[1, 1, 0], [-1, 1, 0], [0, 0, 1]] (the translation does not act on a delta).
+    let skin = "weightList: [[(0, 1.0)], [(1, 1.0)], [(0, 1.0)], [(0, 0.5), (1, 0.5)]]";
+    let mut g = load(&rig(skin, "", ""));
+    let s = sculpt(&mut g, 3, Vec3::new(0.0, 1.0, 0.0));
+    let c = invert_shape(&mut g, &s, &CorrectiveOptions::new("bs", 0)).unwrap();
+    assert_eq!(c.indices, vec![3]);
+    close(c.deltas[0], DVec3::new(1.0, 1.0, 0.0), 1e-6);
+    // And along z (M's third column is z itself) and x: M⁻¹·(2, 0, 3) = (2, -2, 3).
+    let s = sculpt(&mut g, 3, Vec3::new(2.0, 0.0, 3.0));
+    let c = invert_shape(&mut g, &s, &CorrectiveOptions::new("bs", 0)).unwrap();
+    close(c.deltas[0], DVec3::new(2.0, -2.0, 3.0), 1e-6);
+    reproduces(&mut g, &c, &s, 1e-6);
+}
+
+#[test]
+fn the_graph_is_left_bit_for_bit_as_it_was() {
+    // Target 0 already has a delta and its weight is driven by a curve; target 1 does not
+    // exist yet. Neither the success nor the failure changes a value or a connection.
+    let text = rig(
+        ALL_J0,
+        r#""w": animCurveTU(keyTime: [0, 10], keyValue: [0.0, 0.3]),"#,
+        r#""w.output -> bs.weight[0]""#,
+    )
+    .replace(
+        r#""bs": blendShape()"#,
+        r#""bs": blendShape(targetIndices: [[2]], targetDeltas: [[(0, 0, 3)]])"#,
+    );
+    let fresh = load(&text);
+    let mut g = load(&text);
+    g.set_time(Time::new(5.0, 24.0));
+    let before = mesh(&mut g, "skin.outputGeometry");
+    // The old delta of target 0 plays no part: the sculpt is matched with it replaced.
+    let mut s = before.clone();
+    s[0] += Vec3::Y;
+    // Vertex 2, (0, 0, 1), sits on j0's axis: posed without target 0 it stays there; ask
+    // for +1 along z (the old delta, at the pose's weight, is not part of the answer).
+    s[2] = Vec3::new(0.0, 0.0, 2.0);
+    let c = invert_shape(&mut g, &s, &CorrectiveOptions::new("bs", 0)).unwrap();
+    assert_eq!(c.indices, vec![0, 2]);
+    close(c.deltas[0], DVec3::X, 1e-6);
+    close(c.deltas[1], DVec3::Z, 1e-5);
+    graph_eq(&g, &fresh).unwrap();
+    assert_eq!(g.time(), Time::new(5.0, 24.0));
+    let after = mesh(&mut g, "skin.outputGeometry");
+    assert_eq!(before, after, "the deformed mesh is the same bits");
+    // A new target index, and a failing call, leave nothing behind either.
+    invert_shape(&mut g, &s, &CorrectiveOptions::new("bs", 1)).unwrap();
+    assert!(invert_shape(&mut g, &s[..3], &CorrectiveOptions::new("bs", 1)).is_err());
+    graph_eq(&g, &fresh).unwrap();
+    let bs = g.node_id("bs").unwrap();
+    let weight = g.node_spec(bs).unwrap().find("weight").unwrap().0;
+    assert_eq!(g.elements(bs, weight), vec![0], "no weight[1] element was left");
+}
+
+#[test]
+fn errors_name_the_place_and_the_fix() {
+    let mut g = load(&rig(ALL_J0, "", ""));
+    let s = sculpt(&mut g, 1, Vec3::Y);
+    let err = |g: &mut Graph, s: &[Vec3], bs: &str| invert_shape(g, s, &CorrectiveOptions::new(bs, 0)).unwrap_err();
+    let e = err(&mut g, &s[..3], "bs");
+    assert!(
+        e.contains("3 vertices") && e.contains("skin.outputGeometry has 4"),
+        "{e}"
+    );
+    let e = err(&mut g, &s, "bz");
+    assert!(
+        e.contains("bz") && e.contains("bs"),
+        "unknown node, with a suggestion: {e}"
+    );
+    let e = err(&mut g, &s, "skin");
+    assert!(e.contains("is a skinCluster, not a blendShape"), "{e}");
+    let mut nan = s.clone();
+    nan[2].y = f32::NAN;
+    let e = err(&mut g, &nan, "bs");
+    assert!(e.contains("sculpt vertex 2") && e.contains("not finite"), "{e}");
+    // A joint scaled to 0 along z flattens its vertices: no delta can lift them.
+    let mut flat = load(&rig(ALL_J0, "", "").replace("rotate: (0, 0, 90)", "scale: (1, 1, 0)"));
+    let s = sculpt(&mut flat, 1, Vec3::Y);
+    let e = err(&mut flat, &s, "bs");
+    assert!(e.contains("vertex 1") && e.contains("singular"), "{e}");
+    // A target driven by a connection is not ours to write.
+    let mut driven = load(&rig(
+        ALL_J0,
+        r#""src": blendShape(targetIndices: [[1]], targetDeltas: [[(0, 0, 1)]]),"#,
+        r#""src.targetIndices[0] -> bs.targetIndices[0]", "src.targetDeltas[0] -> bs.targetDeltas[0]""#,
+    ));
+    let e = err(&mut driven, &s, "bs");
+    assert!(
+        e.contains("bs.targetIndices[0] is driven by") && e.contains("disconnect"),
+        "{e}"
+    );
+}
+
+#[test]
+fn an_unchanged_sculpt_gives_an_empty_target() {
+    let mut g = load(&rig(ALL_J0, "", ""));
+    let s = mesh(&mut g, "skin.outputGeometry");
+    let c = invert_shape(&mut g, &s, &CorrectiveOptions::new("bs", 0)).unwrap();
+    assert!(c.indices.is_empty() && c.deltas.is_empty());
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(12))]
+    /// Any two-joint blend of a rotation and a scale: the delta is the hand-built blended
+    /// matrix's inverse applied to the posed offset, and the rig reproduces the sculpt.
+    #[test]
+    fn blended_joints_invert_exactly(
+        angle in -170.0f64..170.0, sx in 0.5f64..2.0, w in 0.1f64..0.9,
+        off in prop::array::uniform3(-1.0f32..1.0),
+    ) {
+        let skin = format!("weightList: [[(0, 1.0)], [(0, 1.0)], [(0, 1.0)], [(0, {w}), (1, {})]]", 1.0 - w);
+        let text = rig(&skin, "", "")
+            .replace("rotate: (0, 0, 90)", &format!("rotate: (0, 0, {angle})"))
+            .replace("translate: (0, 0, 5)", &format!("translate: (0, 0, 5), scale: ({sx}, 1, 1)"));
+        let mut g = load(&text);
+        let offset = Vec3::from_array(off);
+        prop_assume!(offset.length() > 1e-3);
+        let s = sculpt(&mut g, 3, offset);
+        let c = invert_shape(&mut g, &s, &CorrectiveOptions::new("bs", 0)).unwrap();
+        let r = glam::DMat3::from_rotation_z(angle.to_radians());
+        let m = r * w + glam::DMat3::from_diagonal(DVec3::new(sx, 1.0, 1.0)) * (1.0 - w);
+        let expected = m.inverse() * offset.as_dvec3();
+        prop_assert_eq!(c.indices.clone(), vec![3]);
+        prop_assert!((c.deltas[0] - expected).length() < 1e-5 * (1.0 + expected.length()), "{} vs {}", c.deltas[0], expected);
+        reproduces(&mut g, &c, &s, 1e-5);
+    }
+}
