@@ -289,7 +289,7 @@ fn solve(
         let det = j.determinant();
         if !(det.is_finite() && det.abs() > 1e-9 * scale.powi(3) && scale > 0.0) {
             return Err(format!(
-                "vertex {v}: the deformers after `{}` do not move it freely at this pose (its 3x3 Jacobian is singular, determinant {det:e}: a joint scaled to 0, a weight map or the envelope at 0, or a deformer flattening it), so no delta reaches the sculpt; leave that vertex unsculpted or change the pose",
+                "vertex {v}: the deformers after `{}` do not move it freely at this pose (its 3x3 Jacobian is singular, determinant {det:.2e}: a joint scaled to 0, a weight map or the envelope at 0, or a deformer flattening it), so no delta reaches the sculpt; leave that vertex unsculpted or change the pose",
                 opts.blend_shape
             ));
         }
