@@ -62,7 +62,7 @@ pub struct CorrectiveOptions {
 
 impl CorrectiveOptions {
     /// Options for target `target` of `blend_shape` at the graph's current pose, tolerance
-    /// 1e-4 and up to 4 refinement steps.
+    /// 1e-4 and up to 8 refinement steps.
     pub fn new(blend_shape: &str, target: u32) -> Self {
         CorrectiveOptions {
             blend_shape: blend_shape.to_string(),
@@ -70,7 +70,7 @@ impl CorrectiveOptions {
             time: None,
             output: None,
             tolerance: 1e-4,
-            max_iterations: 4,
+            max_iterations: 8,
         }
     }
 }

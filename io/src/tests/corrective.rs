@@ -226,3 +226,80 @@ proptest! {
         reproduces(&mut g, &c, &s, 1e-5);
     }
 }
+
+#[test]
+fn delta_mush_after_the_skin_is_approximated_and_refined() {
+    // The mush spreads a vertex's delta to its neighbours and smooths it: the unit-offset
+    // Jacobian is exact for the sculpted vertex alone, the refinement steps account for
+    // the rest, and the report says how far unsculpted vertices moved.
+    let sphere = "polySphere(subdivisionsAxis: 8, subdivisionsHeight: 6";
+    let mut alone = load(&format!(r#"Rig(nodes: {{ "ball": {sphere}) }})"#));
+    let count = mesh(&mut alone, "ball.output").len();
+    let weights = vec!["[(0, 1.0)]"; count].join(", ");
+    let text = format!(
+        r#"Rig(nodes: {{
+        "j": joint(),
+        "ball": {sphere}, deformers: ["bs", "skin", "mush"]),
+        "bs": blendShape(),
+        "skin": skinCluster(weightList: [{weights}]),
+        "mush": deltaMush(),
+    }}, connections: ["j.worldMatrix -> skin.matrix[0]"])"#
+    );
+    let mut g = load(&text);
+    g.set_path("j.rotateZ", Value::Float(90.0)).unwrap();
+    let mut s = mesh(&mut g, "mush.outputGeometry");
+    s[count / 2] += Vec3::new(0.1, 0.1, 0.1);
+    let mut opts = CorrectiveOptions::new("bs", 0);
+    opts.max_iterations = 0;
+    let first = invert_shape(&mut g, &s, &opts).unwrap();
+    let refined = invert_shape(&mut g, &s, &CorrectiveOptions::new("bs", 0)).unwrap();
+    assert_eq!(refined.output, "mush.outputGeometry");
+    // On a sphere the mush's tangent frames turn with the delta: the first solve is off by
+    // millimetres (6.7e-3 when written), the refinement brings it to f32 rounding.
+    assert!(first.max_residual > 1e-4, "{first:?}");
+    assert!(refined.iterations > 0 && refined.max_residual < 1e-6, "{refined:?}");
+    assert!(
+        refined.moved_elsewhere > 0.01,
+        "the mush moves the neighbours: {refined:?}"
+    );
+    set_target(&mut g, "bs", 0, &refined).unwrap();
+    g.set_path("bs.weight[0]", Value::Float(1.0)).unwrap();
+    let out = mesh(&mut g, "mush.outputGeometry");
+    let v = count / 2;
+    assert!((out[v] - s[v]).length() < 1e-6, "{} vs {}", out[v], s[v]);
+    assert!(
+        ((out[v] - s[v]).length() as f64 - refined.max_residual).abs() < 1e-7,
+        "the report is true"
+    );
+}
+
+#[test]
+fn the_targets_own_weight_map_envelope_and_matrix_are_inverted_too() {
+    // Envelope 0.5 and a weight map of 0.5 on vertex 1: the delta that moves it by
+    // R·d·0.25 is four times R⁻¹·(0, 1, 0) = (4, 0, 0).
+    let scaled = rig(ALL_J0, "", "").replace(
+        r#""bs": blendShape()"#,
+        r#""bs": blendShape(envelope: 0.5, targetWeightMap: [[1, 0.5, 1, 1]])"#,
+    );
+    let mut g = load(&scaled);
+    let s = sculpt(&mut g, 1, Vec3::Y);
+    let c = invert_shape(&mut g, &s, &CorrectiveOptions::new("bs", 0)).unwrap();
+    close(c.deltas[0], DVec3::new(4.0, 0.0, 0.0), 1e-6);
+    reproduces(&mut g, &c, &s, 1e-6);
+    // A transform-space target read in a frame turned -90 degrees about z (which undoes
+    // the joint's +90): the delta is the posed offset itself.
+    let framed = rig(
+        ALL_J0,
+        r#""frame": transform(rotate: (0, 0, -90)),"#,
+        r#""frame.worldMatrix -> bs.targetMatrix[0]""#,
+    )
+    .replace(
+        r#""bs": blendShape()"#,
+        r#""bs": blendShape(postDeformersMode: [transformSpace])"#,
+    );
+    let mut g = load(&framed);
+    let s = sculpt(&mut g, 2, Vec3::new(0.5, 0.25, 0.0));
+    let c = invert_shape(&mut g, &s, &CorrectiveOptions::new("bs", 0)).unwrap();
+    close(c.deltas[0], DVec3::new(0.5, 0.25, 0.0), 1e-6);
+    reproduces(&mut g, &c, &s, 1e-6);
+}
