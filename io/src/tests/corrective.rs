@@ -303,3 +303,34 @@ fn the_targets_own_weight_map_envelope_and_matrix_are_inverted_too() {
     close(c.deltas[0], DVec3::new(0.5, 0.25, 0.0), 1e-6);
     reproduces(&mut g, &c, &s, 1e-6);
 }
+
+#[test]
+fn a_bend_is_per_vertex_but_not_linear_and_the_steps_converge() {
+    // A 90° bend maps each point on its own, along an arc: the unit-offset secant is not
+    // the answer, the Newton steps reach the sculpt, and nothing else moves.
+    let text = r#"Rig(nodes: {
+        "bar": mesh(inMesh: (
+            positions: [(0.1, -1, 0), (0.1, -0.5, 0), (0.1, 0, 0), (0.1, 0.5, 0), (0.1, 1, 0), (-0.1, 0, 0)],
+            triangles: [(0, 1, 5), (1, 2, 5), (2, 3, 5), (3, 4, 5)],
+        ), deformers: ["bs", "nl"]),
+        "bs": blendShape(),
+        "bend": deformBend(curvature: 90),
+        "nl": nonLinear(),
+    }, connections: ["bend.deformerData -> nl.deformerData"])"#;
+    let mut g = load(text);
+    let mut s = mesh(&mut g, "nl.outputGeometry");
+    s[3] += Vec3::new(0.05, 0.02, 0.03);
+    let mut opts = CorrectiveOptions::new("bs", 0);
+    opts.max_iterations = 0;
+    let first = invert_shape(&mut g, &s, &opts).unwrap();
+    let refined = invert_shape(&mut g, &s, &CorrectiveOptions::new("bs", 0)).unwrap();
+    assert!(first.max_residual > 1e-4, "{first:?}");
+    assert!(refined.iterations > 0 && refined.max_residual < 1e-6, "{refined:?}");
+    assert_eq!(refined.moved_elsewhere, 0.0);
+    set_target(&mut g, "bs", 0, &refined).unwrap();
+    g.set_path("bs.weight[0]", Value::Float(1.0)).unwrap();
+    let out = mesh(&mut g, "nl.outputGeometry");
+    for (v, (o, w)) in out.iter().zip(&s).enumerate() {
+        assert!((*o - *w).length() < 1e-6, "vertex {v}: {o} vs {w}");
+    }
+}
