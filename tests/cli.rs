@@ -529,5 +529,41 @@ fn corrective_inverts_a_sculpt_through_the_skin() {
         code == 1 && err.contains("short.obj") && err.contains("2 vertices"),
         "{err}"
     );
+    // A rig using another file by a relative path is written in its own folder.
+    let main = dir.join("main.ron");
+    std::fs::write(&main, r#"Rig(uses: [Use(file: "rig.ron")])"#).unwrap();
+    let elsewhere = dir.join("sub").join("fixed.ron");
+    std::fs::create_dir_all(elsewhere.parent().unwrap()).unwrap();
+    let (code, _, err) = sinew(&[
+        "corrective",
+        main.to_str().unwrap(),
+        "--blend-shape",
+        "bs",
+        "--target",
+        "0",
+        "--sculpt",
+        sculpt.to_str().unwrap(),
+        "-o",
+        elsewhere.to_str().unwrap(),
+    ]);
+    assert!(code == 1 && err.contains("same folder"), "{err}");
+    let beside = dir.join("main_fixed.ron");
+    let (code, _, err) = sinew(&[
+        "corrective",
+        main.to_str().unwrap(),
+        "--blend-shape",
+        "bs",
+        "--target",
+        "0",
+        "--frame",
+        "10",
+        "--sculpt",
+        sculpt.to_str().unwrap(),
+        "-o",
+        beside.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&beside).unwrap();
+    assert!(text.contains(r#""bs.targetIndices[0]": [1]"#), "a set override: {text}");
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -56,15 +56,15 @@ fn check_same_folder(rig: &Path, files: &[PathBuf], out: &Path) -> Result<(), St
             .unwrap_or(Path::new("."));
         d.canonicalize().unwrap_or_else(|_| d.to_path_buf())
     };
-    if files.is_empty() || dir(rig) == dir(out) {
-        return Ok(());
+    match files.iter().find(|f| !super::paths::same_file(f, rig)) {
+        Some(used) if dir(rig) != dir(out) => Err(format!(
+            "{}: {} refers to {} by a relative path; write the output in the same folder as the rig",
+            out.display(),
+            rig.display(),
+            used.display()
+        )),
+        _ => Ok(()),
     }
-    Err(format!(
-        "{}: {} refers to {} by a relative path; write the output in the same folder as the rig",
-        out.display(),
-        rig.display(),
-        files[0].display()
-    ))
 }
 
 /// Runs `sinew corrective`; returns the summary to print.

@@ -334,3 +334,20 @@ fn a_bend_is_per_vertex_but_not_linear_and_the_steps_converge() {
         assert!((*o - *w).length() < 1e-6, "vertex {v}: {o} vs {w}");
     }
 }
+
+#[test]
+fn the_matched_mesh_can_be_named() {
+    // Matching the blendShape's own output (before the skin) inverts nothing: the delta is
+    // the offset itself. A plug that is not a mesh is refused.
+    let mut g = load(&rig(ALL_J0, "", ""));
+    let mut s = mesh(&mut g, "bs.outputGeometry");
+    s[0] += Vec3::new(0.0, 0.5, 0.0);
+    let mut opts = CorrectiveOptions::new("bs", 0);
+    opts.output = Some("bs.outputGeometry".into());
+    let c = invert_shape(&mut g, &s, &opts).unwrap();
+    assert_eq!((c.indices.clone(), c.output.as_str()), (vec![0], "bs.outputGeometry"));
+    close(c.deltas[0], DVec3::new(0.0, 0.5, 0.0), 1e-7);
+    opts.output = Some("j0.worldMatrix".into());
+    let e = invert_shape(&mut g, &s, &opts).unwrap_err();
+    assert!(e.contains("j0.worldMatrix is not a mesh plug"), "{e}");
+}
