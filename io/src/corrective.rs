@@ -16,7 +16,8 @@
 //! map, envelope and transform-space matrix) this is exact. Then up to
 //! [`CorrectiveOptions::max_iterations`] Newton steps `d += J(d)⁻¹ (sculpt − o(d))`, with
 //! `J(d)` measured again at the current deltas by offsets of 1e-3 of the mesh's size (four
-//! evaluations a step), are kept while they shrink the largest residual: they take per-vertex
+//! evaluations a step), are kept while they shrink the largest residual (and stop once it is
+//! within 2 `f32` ulps of the mesh's size): they take per-vertex
 //! but non-linear deformers (nonLinear bend, twist, squash..., ffd, softMod, dual quaternion
 //! skinning) to the sculpt (a 90° bend: 3.3e-2 off after the first solve, 4e-8 after three
 //! steps), and absorb the `f32` rounding of the evaluation. For deformers that mix
@@ -349,10 +350,12 @@ fn solve(
     let mut res = residual(&o);
     // Newton steps with Jacobians re-measured at the current deltas by small offsets
     // (1e-3 of the mesh's size: f32 rounding stays 1e-4 of the step), kept while they help.
+    // They stop at the f32 rounding of the mesh's coordinates (2 ulps of its size).
     let size = o0.iter().map(|p| p.abs().max_element()).fold(0.0, f64::max);
-    let h = 1e-3 * if size > 0.0 { size } else { 1.0 };
+    let size = if size > 0.0 { size } else { 1.0 };
+    let (h, rounding) = (1e-3 * size, 2.0 * f64::from(f32::EPSILON) * size);
     for _ in 0..opts.max_iterations {
-        if res == 0.0 {
+        if res <= rounding {
             break;
         }
         let inverses = probe.inverse_jacobians(g, &deltas, &o, h)?;
