@@ -126,8 +126,11 @@ fn the_graph_is_left_bit_for_bit_as_it_was() {
         r#""bs": blendShape()"#,
         r#""bs": blendShape(targetIndices: [[2]], targetDeltas: [[(0, 0, 3)]])"#,
     );
-    let fresh = load(&text);
+    let mut fresh = load(&text);
     let mut g = load(&text);
+    for graph in [&mut fresh, &mut g] {
+        graph.set_path("bs.weight[2]", Value::Float(0.25)).unwrap();
+    }
     g.set_time(Time::new(5.0, 24.0));
     let before = mesh(&mut g, "skin.outputGeometry");
     // The old delta of target 0 plays no part: the sculpt is matched with it replaced.
@@ -144,13 +147,18 @@ fn the_graph_is_left_bit_for_bit_as_it_was() {
     assert_eq!(g.time(), Time::new(5.0, 24.0));
     let after = mesh(&mut g, "skin.outputGeometry");
     assert_eq!(before, after, "the deformed mesh is the same bits");
-    // A new target index, and a failing call, leave nothing behind either.
+    // A set weight, a new target index, and a failing call, leave nothing behind either.
+    invert_shape(&mut g, &s, &CorrectiveOptions::new("bs", 2)).unwrap();
     invert_shape(&mut g, &s, &CorrectiveOptions::new("bs", 1)).unwrap();
     assert!(invert_shape(&mut g, &s[..3], &CorrectiveOptions::new("bs", 1)).is_err());
     graph_eq(&g, &fresh).unwrap();
     let bs = g.node_id("bs").unwrap();
     let weight = g.node_spec(bs).unwrap().find("weight").unwrap().0;
-    assert_eq!(g.elements(bs, weight), vec![0], "no weight[1] element was left");
+    assert_eq!(g.elements(bs, weight), vec![0, 2], "no weight[1] element was left");
+    assert!(g
+        .stored(g.plug("bs.weight[2]").unwrap())
+        .unwrap()
+        .same_bits(&Value::Float(0.25)));
 }
 
 #[test]
