@@ -13,19 +13,22 @@
 //! vertices at once: one evaluation per axis). Vertex `v`'s 3×3 Jacobian has the columns
 //! `oₖ[v] − o₀[v]`; its delta is `J⁻¹ (sculpt[v] − o₀[v])`. For a chain that is affine in
 //! each input point (skinCluster linear blend skinning, cluster, the blendShape's own weight
-//! map, envelope and transform-space matrix) this is exact. Then up to
-//! [`CorrectiveOptions::max_iterations`] Newton steps `d += J(d)⁻¹ (sculpt − o(d))`, with
-//! `J(d)` measured again at the current deltas by offsets of 1e-3 of the mesh's size (four
-//! evaluations a step), are kept while they shrink the largest residual (and stop once it is
-//! within 2 `f32` ulps of the mesh's size): they take per-vertex
-//! but non-linear deformers (nonLinear bend, twist, squash..., ffd, softMod, dual quaternion
-//! skinning) to the sculpt (a 90° bend: 3.3e-2 off after the first solve, 4e-8 after three
-//! steps), and absorb the `f32` rounding of the evaluation. For deformers that mix
-//! neighbouring vertices (deltaMush, tension, wrap) the result is an approximation: the
-//! sculpted vertices are matched where the steps can (a deltaMush on a sphere: 6.7e-3, then
-//! 7e-9 after three steps), but their deltas also move vertices that were not sculpted; the
-//! report gives what is left ([`Corrective::max_residual`]) and how far vertices without a
-//! delta moved ([`Corrective::moved_elsewhere`]).
+//! map, envelope and transform-space matrix) this is exact.
+//!
+//! Then up to [`CorrectiveOptions::max_iterations`] Newton steps
+//! `d += J(d)⁻¹ (sculpt − o(d))`, with `J(d)` measured again at the current deltas by offsets
+//! of 1e-3 of the mesh's size (four or five evaluations a step). Each vertex keeps its step
+//! only if it brings that vertex closer (else its next step is halved) and is done once
+//! within 2 `f32` ulps of the mesh's size, so a vertex that cannot be reached does not hold
+//! the others back. The steps take per-vertex but non-linear deformers (nonLinear bend,
+//! twist, squash..., ffd, softMod, dual quaternion skinning) to the sculpt (a 90° bend:
+//! 3.3e-2 off after the first solve, 4e-8 after three steps), and absorb the `f32` rounding
+//! of the evaluation. Points a deformer folds (a bend's centre line) may stay out of reach:
+//! [`Corrective::max_residual`] and [`Corrective::worst_vertex`] say where. For deformers
+//! that mix neighbouring vertices (deltaMush, tension, wrap) the result is an approximation:
+//! the sculpted vertices are matched where the steps can (a deltaMush on a sphere: 6.7e-3,
+//! then 2e-8 after two steps), but their deltas also move vertices that were not sculpted
+//! ([`Corrective::moved_elsewhere`]).
 //!
 //! Only vertices whose sculpted position differs from `o₀` by more than
 //! [`CorrectiveOptions::tolerance`] get a delta (the target is sparse).
@@ -89,11 +92,13 @@ pub struct Corrective {
     pub deltas: Vec<DVec3>,
     /// The plug whose mesh was matched to the sculpt.
     pub output: String,
-    /// Refinement steps kept after the first solve.
+    /// Refinement steps that brought at least one vertex closer.
     pub iterations: usize,
     /// Largest distance between the sculpt and the chain's output with the deltas at
     /// weight 1, over the vertices with a delta.
     pub max_residual: f64,
+    /// The vertex where that residual is (0 when no vertex has a delta).
+    pub worst_vertex: usize,
     /// Largest distance any vertex without a delta moved because of the deltas (0 for
     /// chains of per-vertex deformers; non-local ones such as deltaMush spread them).
     pub moved_elsewhere: f64,
@@ -336,41 +341,56 @@ fn solve(
             moved[k], opts.blend_shape
         ));
     }
-    let residual = |o: &[DVec3]| moved.iter().map(|&v| (target[v] - o[v]).length()).fold(0.0, f64::max);
-    let step = |inverses: &[Option<DMat3>], d: &[DVec3], o: &[DVec3]| -> Vec<DVec3> {
-        moved
-            .iter()
-            .zip(inverses)
-            .zip(d)
-            .map(|((&v, inv), d)| *d + inv.unwrap_or(DMat3::ZERO) * (target[v] - o[v]))
-            .collect()
-    };
-    let mut deltas = step(&inverses, &zero, &o0);
+    let dist = |o: &[DVec3], k: usize| (target[moved[k]] - o[moved[k]]).length();
+    let mut deltas: Vec<DVec3> = (0..moved.len())
+        .map(|k| inverses[k].unwrap_or(DMat3::ZERO) * (target[moved[k]] - o0[moved[k]]))
+        .collect();
     let mut o = probe.eval(g, deltas.clone())?;
-    let mut res = residual(&o);
     // Newton steps with Jacobians re-measured at the current deltas by small offsets
-    // (1e-3 of the mesh's size: f32 rounding stays 1e-4 of the step), kept while they help.
-    // They stop at the f32 rounding of the mesh's coordinates (2 ulps of its size).
+    // (1e-3 of the mesh's size: f32 rounding stays 1e-4 of the step). Each vertex keeps its
+    // step only when it brings it closer (else its next step is halved), and is done once
+    // within the f32 rounding of the mesh's coordinates (2 ulps of its size).
     let size = o0.iter().map(|p| p.abs().max_element()).fold(0.0, f64::max);
     let size = if size > 0.0 { size } else { 1.0 };
     let (h, rounding) = (1e-3 * size, 2.0 * f64::from(f32::EPSILON) * size);
+    let mut length = vec![1.0f64; moved.len()];
     for _ in 0..opts.max_iterations {
-        if res <= rounding {
+        let res: Vec<f64> = (0..moved.len()).map(|k| dist(&o, k)).collect();
+        let open: Vec<usize> = (0..moved.len()).filter(|&k| res[k] > rounding).collect();
+        if open.is_empty() {
             break;
         }
         let inverses = probe.inverse_jacobians(g, &deltas, &o, h)?;
-        if inverses.iter().any(Option::is_none) {
-            break;
+        let mut next = deltas.clone();
+        for &k in &open {
+            if let Some(inv) = inverses[k] {
+                next[k] += inv * (target[moved[k]] - o[moved[k]]) * length[k];
+            }
         }
-        let next = step(&inverses, &deltas, &o);
         let o_next = probe.eval(g, next.clone())?;
-        let res_next = residual(&o_next);
-        if res_next >= res {
-            break;
+        let mut kept = 0;
+        for &k in &open {
+            if dist(&o_next, k) < res[k] {
+                deltas[k] = next[k];
+                kept += 1;
+            } else {
+                length[k] *= 0.5;
+            }
         }
-        (deltas, o, res) = (next, o_next, res_next);
+        if kept == 0 {
+            continue;
+        }
         c.iterations += 1;
+        o = if kept == open.len() {
+            o_next
+        } else {
+            probe.eval(g, deltas.clone())?
+        };
     }
+    let (worst, res) = (0..moved.len())
+        .map(|k| (k, dist(&o, k)))
+        .fold((0, 0.0), |a, b| if b.1 > a.1 { b } else { a });
+    c.worst_vertex = moved[worst];
     let sculpted: std::collections::HashSet<usize> = moved.iter().copied().collect();
     c.moved_elsewhere = (0..o.len())
         .filter(|v| !sculpted.contains(v))

@@ -118,6 +118,12 @@ pub fn corrective(a: &CorrectiveArgs, registry: &Arc<Registry>) -> Result<String
             a.tolerance
         ));
     }
+    if c.max_residual > a.tolerance {
+        msg.push_str(&format!(
+            "\nwarning: vertex {} stays {:.3e} from the sculpt: the deformers after {bs} barely move it at this pose, or fold it (a bend's centre, a squash's pole); check it, sculpt it less, or pose further from the fold",
+            c.worst_vertex, c.max_residual
+        ));
+    }
     if c.moved_elsewhere > a.tolerance {
         msg.push_str(&format!(
             "\nwarning: the deformers after {bs} are not per-vertex: unsculpted vertices move by up to {:.3e} (an approximation)",
