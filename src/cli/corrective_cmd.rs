@@ -31,7 +31,8 @@ pub struct CorrectiveArgs {
     #[arg(long)]
     fps: Option<f64>,
     /// The sculpted mesh (.obj, .gltf or .glb): the posed mesh (e.g. from
-    /// `sinew eval --format obj`) with the fix sculpted in, same vertex count and order.
+    /// `sinew eval --format obj`) with the fix sculpted in, same vertex count and order, in
+    /// the space of that mesh plug.
     #[arg(long, value_name = "MESH")]
     sculpt: PathBuf,
     /// The plug holding the deformed mesh the sculpt was made on (default: the end of the
