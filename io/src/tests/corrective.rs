@@ -401,3 +401,22 @@ fn vertices_across_a_bends_fold_do_not_hold_back_the_others() {
     );
     assert!(((out[w] - s[w]).length() as f64 - c.max_residual).abs() < 1e-7);
 }
+
+#[test]
+fn a_tangent_space_target_after_the_skin_is_inverted_through_its_frames() {
+    // A tangentSpace target after the skin turns with the skinned surface: a rest-space
+    // delta d moves the vertex by R·d (docs/deformers.md), so the posed +y offset needs
+    // R⁻¹·(0, 1, 0) = (1, 0, 0), now with the blendShape last in the chain.
+    let text = rig(ALL_J0, "", "")
+        .replace(r#"deformers: ["bs", "skin"]"#, r#"deformers: ["skin", "bs"]"#)
+        .replace(
+            r#""bs": blendShape()"#,
+            r#""bs": blendShape(postDeformersMode: [tangentSpace])"#,
+        );
+    let mut g = load(&text);
+    let mut s = mesh(&mut g, "bs.outputGeometry");
+    s[1] += Vec3::Y;
+    let c = invert_shape(&mut g, &s, &CorrectiveOptions::new("bs", 0)).unwrap();
+    assert_eq!((c.indices.clone(), c.output.as_str()), (vec![1], "bs.outputGeometry"));
+    close(c.deltas[0], DVec3::X, 1e-6);
+}
