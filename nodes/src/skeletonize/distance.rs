@@ -24,6 +24,27 @@ pub fn squared_distances(grid: &Grid, inside: &[bool]) -> Vec<f32> {
     let mut v = vec![0usize; n];
     let mut z = vec![0f32; n + 1];
     let strides = [1, nx, nx * ny];
+    // Per axis and line (indexed `ia + dims[a] * ib` as below), the first and last
+    // inside cell along the line (`u32::MAX, 0` for a line without one), from one pass
+    // in memory order instead of a strided search along every line. A cell stays
+    // positive exactly when it is inside through all passes (its nearest outside cell
+    // is at least one cell away), so these hold for every pass.
+    let mut spans: [Vec<(u32, u32)>; 3] = [ny * nz, nz * nx, nx * ny].map(|n| vec![(u32::MAX, 0u32); n]);
+    let mut c = 0;
+    for k in 0..nz {
+        for j in 0..ny {
+            for i in 0..nx {
+                if inside[c] {
+                    for (span, line, q) in [(0, j + ny * k, i), (1, k + nz * i, j), (2, i + nx * j, k)] {
+                        let s = &mut spans[span][line];
+                        s.0 = s.0.min(q as u32);
+                        s.1 = s.1.max(q as u32);
+                    }
+                }
+                c += 1;
+            }
+        }
+    }
     for axis in 0..3 {
         let len = grid.dims[axis];
         let stride = strides[axis];
@@ -34,13 +55,11 @@ pub fn squared_distances(grid: &Grid, inside: &[bool]) -> Vec<f32> {
                 // Only the stretch from the cell before the first inside cell to the
                 // cell after the last one changes: the outside cells around it are
                 // zeros (sources) nearer than any beyond them.
-                let Some(first) = (0..len).find(|&q| d[base + q * stride] > 0.0) else {
+                let (first, last) = spans[axis][ia + grid.dims[a] * ib];
+                if first == u32::MAX {
                     continue;
-                };
-                let last = (first..len)
-                    .rev()
-                    .find(|&q| d[base + q * stride] > 0.0)
-                    .unwrap_or(first);
+                }
+                let (first, last) = (first as usize, last as usize);
                 let (from, to) = (first.saturating_sub(1), (last + 2).min(len));
                 let span = to - from;
                 for (q, x) in line[..span].iter_mut().enumerate() {

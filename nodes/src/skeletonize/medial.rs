@@ -122,11 +122,14 @@ fn medial_path(grid: &Grid, d2: &[f32], member: &[bool], from: usize, to: usize,
     let (start, goal) = (local(ca), local(cb));
     cost[start] = 0.0;
     global[start] = from;
+    // Keys `cost bits << 32 | box index`: one integer comparison orders them like the
+    // pair (cost, index), ties broken by index.
+    let key = |cost: f32, lc: usize| (u64::from(cost.to_bits()) << 32) | lc as u64;
     let mut heap = BinaryHeap::new();
-    heap.push(Reverse((0u32, start as u32)));
-    while let Some(Reverse((bits, lc))) = heap.pop() {
-        let d = f32::from_bits(bits);
-        let lc = lc as usize;
+    heap.push(Reverse(key(0.0, start)));
+    while let Some(Reverse(k)) = heap.pop() {
+        let d = f32::from_bits((k >> 32) as u32);
+        let lc = (k & u64::from(u32::MAX)) as usize;
         if d > cost[lc] {
             continue;
         }
@@ -147,7 +150,7 @@ fn medial_path(grid: &Grid, d2: &[f32], member: &[bool], from: usize, to: usize,
                 parent[lm] = lc as u32;
                 global[lm] = m;
                 // Non-negative floats order like their bit patterns.
-                heap.push(Reverse((nd.to_bits(), lm as u32)));
+                heap.push(Reverse(key(nd, lm)));
             }
         }
     }

@@ -68,7 +68,8 @@ impl Grid {
 
     /// The cell containing world point `p`, if it is in the grid.
     pub fn cell_of(&self, p: DVec3) -> Option<usize> {
-        let q = ((p - self.origin) / self.h).floor();
+        // Truncation is the floor on non-negative numbers (and needs no libm call).
+        let q = (p - self.origin) / self.h;
         let ok = (0..3).all(|a| q[a] >= 0.0 && (q[a] as usize) < self.dims[a]);
         ok.then(|| self.index(q.x as usize, q.y as usize, q.z as usize))
     }
@@ -251,6 +252,7 @@ pub fn rasterize(mesh: &Mesh, grid: &Grid) -> Vec<bool> {
     let mut shell = vec![false; grid.len()];
     let h = grid.h;
     let half = 0.5 * h * (1.0 + 1e-9);
+    let mut corners: Vec<f64> = Vec::new();
     for t in &mesh.triangles {
         let Some(p) = tri_points(mesh, t, grid.origin) else {
             continue;
@@ -258,19 +260,33 @@ pub fn rasterize(mesh: &Mesh, grid: &Grid) -> Vec<bool> {
         let n = (p[1] - p[0]).cross(p[2] - p[0]);
         let lo = p[0].min(p[1]).min(p[2]);
         let hi = p[0].max(p[1]).max(p[2]);
-        let cell = |x: f64, a: usize| ((x / h).floor().max(0.0) as usize).min(grid.dims[a] - 1);
+        // The cell of coordinate x along axis a, clamped to the grid: truncation is the
+        // floor on non-negative numbers, and negative ones (and NaN) give 0 either way.
+        let cell = |x: f64, a: usize| ((x / h) as usize).min(grid.dims[a] - 1);
         let (c0, c1) = ([0, 1, 2].map(|a| cell(lo[a], a)), [0, 1, 2].map(|a| cell(hi[a], a)));
         let d = n.abs().max_position();
         let (a, b) = ((d + 1) % 3, (d + 2) % 3);
         let plane = n.dot(p[0]);
+        let tilted = n[d].abs() > 1e-300;
+        // The plane's coordinate along d over the column corners (xa, xb), computed once
+        // per corner instead of once per column using it.
+        let row = c1[a] - c0[a] + 2;
+        if tilted {
+            corners.clear();
+            for xb in c0[b]..=c1[b] + 1 {
+                for xa in c0[a]..=c1[a] + 1 {
+                    corners.push((plane - n[a] * xa as f64 * h - n[b] * xb as f64 * h) / n[d]);
+                }
+            }
+        }
         for ia in c0[a]..=c1[a] {
             for ib in c0[b]..=c1[b] {
                 // The range of the triangle's plane over this column, in cells along d.
                 let (mut dmin, mut dmax) = (lo[d], hi[d]);
-                if n[d].abs() > 1e-300 {
+                if tilted {
                     let (mut pmin, mut pmax) = (f64::INFINITY, f64::NEG_INFINITY);
-                    for (xa, xb) in [(ia, ib), (ia + 1, ib), (ia, ib + 1), (ia + 1, ib + 1)] {
-                        let v = (plane - n[a] * xa as f64 * h - n[b] * xb as f64 * h) / n[d];
+                    let at = (ia - c0[a]) + row * (ib - c0[b]);
+                    for v in [corners[at], corners[at + 1], corners[at + row], corners[at + row + 1]] {
                         pmin = pmin.min(v);
                         pmax = pmax.max(v);
                     }
@@ -433,16 +449,42 @@ fn flood_rows(grid: &Grid, state: &mut [u8], mut stack: Vec<usize>, free: u8, to
         }
         state[l..=r].fill(to);
         for off in [-sy, sy, -sz, sz] {
-            let (a, b) = ((l as isize + off) as usize, (r as isize + off) as usize);
-            let mut open = false;
-            for (m, &s) in state[a..=b].iter().enumerate() {
-                let f = s == free;
-                if f && !open {
-                    stack.push(a + m);
-                }
-                open = f;
+            let a = (l as isize + off) as usize;
+            push_run_starts(&state[a..=(r as isize + off) as usize], a, free, &mut stack);
+        }
+    }
+}
+
+/// Pushes `base + m` for the first cell `m` of every run of `free` cells in `row`.
+/// Eight cells at a time where none of them is `free` (the usual case: rows already
+/// filled or walled), one at a time elsewhere; the same cells as a plain scan.
+fn push_run_starts(row: &[u8], base: usize, free: u8, stack: &mut Vec<usize>) {
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    const HIGHS: u64 = 0x8080_8080_8080_8080;
+    let pattern = u64::from(free) * ONES;
+    let mut open = false;
+    let mut m = 0;
+    while m < row.len() {
+        if let Some(chunk) = row.get(m..m + 8) {
+            let mut bytes = [0u8; 8];
+            bytes.copy_from_slice(chunk);
+            // Zero bytes of `x` are the `free` cells (the exact has-a-zero-byte test).
+            let x = u64::from_le_bytes(bytes) ^ pattern;
+            if x.wrapping_sub(ONES) & !x & HIGHS == 0 {
+                open = false;
+                m += 8;
+                continue;
             }
         }
+        let end = (m + 8).min(row.len());
+        for (k, &s) in row[m..end].iter().enumerate() {
+            let f = s == free;
+            if f && !open {
+                stack.push(base + m + k);
+            }
+            open = f;
+        }
+        m = end;
     }
 }
 
