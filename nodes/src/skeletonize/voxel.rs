@@ -441,8 +441,16 @@ fn flood_rows(grid: &Grid, state: &mut [u8], mut stack: Vec<usize>, free: u8, to
             continue;
         }
         let (mut l, mut r) = (c, c);
+        // Eight cells at a time while all eight are free, then one at a time.
+        let all_free = |s: &[u8]| s.iter().all(|&x| x == free);
+        while l >= 8 && all_free(&state[l - 8..l]) {
+            l -= 8;
+        }
         while state[l - 1] == free {
             l -= 1;
+        }
+        while state.get(r + 1..r + 9).is_some_and(all_free) {
+            r += 8;
         }
         while state[r + 1] == free {
             r += 1;
