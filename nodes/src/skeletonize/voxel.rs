@@ -253,6 +253,7 @@ pub fn rasterize(mesh: &Mesh, grid: &Grid) -> Vec<bool> {
     let h = grid.h;
     let half = 0.5 * h * (1.0 + 1e-9);
     let mut corners: Vec<f64> = Vec::new();
+    let strides = [1, grid.dims[0], grid.dims[0] * grid.dims[1]];
     for t in &mesh.triangles {
         let Some(p) = tri_points(mesh, t, grid.origin) else {
             continue;
@@ -296,17 +297,19 @@ pub fn rasterize(mesh: &Mesh, grid: &Grid) -> Vec<bool> {
                 if dmin > dmax {
                     continue;
                 }
+                // The column's first cell index and its centre's coordinates along a and
+                // b (those of every cell in it).
+                let column = ia * strides[a] + ib * strides[b];
+                let mut centre = DVec3::ZERO;
+                centre[a] = (ia as f64 + 0.5) * h;
+                centre[b] = (ib as f64 + 0.5) * h;
                 for id in cell(dmin, d)..=cell(dmax, d) {
-                    let mut ijk = [0usize; 3];
-                    ijk[a] = ia;
-                    ijk[b] = ib;
-                    ijk[d] = id;
-                    let c = grid.index(ijk[0], ijk[1], ijk[2]);
+                    let c = column + id * strides[d];
                     if shell[c] {
                         continue;
                     }
-                    let centre = (DVec3::new(ijk[0] as f64, ijk[1] as f64, ijk[2] as f64) + 0.5) * h;
-                    if tri_box_overlap(p.map(|q| q - centre), half) {
+                    centre[d] = (id as f64 + 0.5) * h;
+                    if tri_box_overlap([p[0] - centre, p[1] - centre, p[2] - centre], half) {
                         shell[c] = true;
                     }
                 }
@@ -327,6 +330,7 @@ fn tri_points(mesh: &Mesh, t: &[u32; 3], origin: DVec3) -> Option<[DVec3; 3]> {
 /// Triangle (relative to the box centre) against the cube of half size `e`: the
 /// separating-axis test of Akenine-Möller (2001) over the box axes, the triangle's
 /// normal and the nine edge cross products.
+#[inline]
 pub fn tri_box_overlap(v: [DVec3; 3], e: f64) -> bool {
     let (lo, hi) = (v[0].min(v[1]).min(v[2]), v[0].max(v[1]).max(v[2]));
     if lo.max_element() > e || hi.min_element() < -e {
@@ -340,16 +344,29 @@ pub fn tri_box_overlap(v: [DVec3; 3], e: f64) -> bool {
     // The nine axes `box axis × edge`: X × f = (0, −f.z, f.y), Y × f = (f.z, 0, −f.x),
     // Z × f = (−f.y, f.x, 0). Each has a zero component, so its dot products and
     // radius are sums of two terms (the same values as the full three-term sums).
-    let separated = |i: usize, j: usize, ai: f64, aj: f64| {
-        if ai == 0.0 && aj == 0.0 {
-            return false;
-        }
-        let p = v.map(|q| ai * q[i] + aj * q[j]);
-        let r = e * (ai.abs() + aj.abs());
-        p[0].min(p[1]).min(p[2]) > r || p[0].max(p[1]).max(p[2]) < -r
-    };
-    !f.iter()
-        .any(|fi| separated(1, 2, -fi.z, fi.y) || separated(0, 2, fi.z, -fi.x) || separated(0, 1, -fi.y, fi.x))
+    let (xs, ys, zs) = (v.map(|q| q.x), v.map(|q| q.y), v.map(|q| q.z));
+    !f.iter().any(|fi| {
+        axis_separates(-fi.z, fi.y, ys, zs, e)
+            || axis_separates(fi.z, -fi.x, xs, zs, e)
+            || axis_separates(-fi.y, fi.x, xs, ys, e)
+    })
+}
+
+/// Whether the axis with components `ai` and `aj` (along two box axes; zero along the
+/// third) separates the triangle, whose vertices have coordinates `qi` and `qj` along
+/// those box axes, from the cube of half size `e`. A zero axis separates nothing.
+#[inline(always)]
+fn axis_separates(ai: f64, aj: f64, qi: [f64; 3], qj: [f64; 3], e: f64) -> bool {
+    if ai == 0.0 && aj == 0.0 {
+        return false;
+    }
+    let (p0, p1, p2) = (
+        ai * qi[0] + aj * qj[0],
+        ai * qi[1] + aj * qj[1],
+        ai * qi[2] + aj * qj[2],
+    );
+    let r = e * (ai.abs() + aj.abs());
+    p0.min(p1).min(p2) > r || p0.max(p1).max(p2) < -r
 }
 
 /// Inside cells: those the outside cannot reach from the border through cells off the
