@@ -14,7 +14,7 @@ use sinew_nodes::skeletonize::distance::squared_distances;
 use sinew_nodes::skeletonize::levels::{components, level_graph};
 use sinew_nodes::skeletonize::symmetry::detect_mirror;
 use sinew_nodes::skeletonize::volume::{curve_graph, VolumeParams};
-use sinew_nodes::skeletonize::voxel::{open_edges, voxelize};
+use sinew_nodes::skeletonize::voxel::{fill, open_edges, rasterize, voxelize};
 use sinew_nodes::skeletonize::{bone_heat_weights, shapes, skeletonize, SkeletonizeParams, WeightParams};
 
 /// Least time of `f` over `runs` runs.
@@ -100,6 +100,8 @@ fn main() {
     let stages: Vec<(&str, Duration)> = vec![
         ("open_edges", least(runs, || open_edges(&mesh))),
         ("voxelize", least(runs, || voxelize(&mesh, params.resolution))),
+        ("  rasterize (shell)", least(runs, || rasterize(&mesh, &grid))),
+        ("  fill (closed mesh)", least(runs, || fill(&grid, &solid.shell, 0))),
         (
             "squared_distances",
             least(runs, || squared_distances(&grid, &solid.inside)),

@@ -24,6 +24,27 @@ pub fn squared_distances(grid: &Grid, inside: &[bool]) -> Vec<f32> {
     let mut v = vec![0usize; n];
     let mut z = vec![0f32; n + 1];
     let strides = [1, nx, nx * ny];
+    // Per axis and line (indexed `ia + dims[a] * ib` as below), the first and last
+    // inside cell along the line (`u32::MAX, 0` for a line without one), from one pass
+    // in memory order instead of a strided search along every line. A cell stays
+    // positive exactly when it is inside through all passes (its nearest outside cell
+    // is at least one cell away), so these hold for every pass.
+    let mut spans: [Vec<(u32, u32)>; 3] = [ny * nz, nz * nx, nx * ny].map(|n| vec![(u32::MAX, 0u32); n]);
+    let mut c = 0;
+    for k in 0..nz {
+        for j in 0..ny {
+            for i in 0..nx {
+                if inside[c] {
+                    for (span, line, q) in [(0, j + ny * k, i), (1, k + nz * i, j), (2, i + nx * j, k)] {
+                        let s = &mut spans[span][line];
+                        s.0 = s.0.min(q as u32);
+                        s.1 = s.1.max(q as u32);
+                    }
+                }
+                c += 1;
+            }
+        }
+    }
     for axis in 0..3 {
         let len = grid.dims[axis];
         let stride = strides[axis];
@@ -34,15 +55,21 @@ pub fn squared_distances(grid: &Grid, inside: &[bool]) -> Vec<f32> {
                 // Only the stretch from the cell before the first inside cell to the
                 // cell after the last one changes: the outside cells around it are
                 // zeros (sources) nearer than any beyond them.
-                let Some(first) = (0..len).find(|&q| d[base + q * stride] > 0.0) else {
+                let (first, last) = spans[axis][ia + grid.dims[a] * ib];
+                if first == u32::MAX {
                     continue;
-                };
-                let last = (first..len)
-                    .rev()
-                    .find(|&q| d[base + q * stride] > 0.0)
-                    .unwrap_or(first);
+                }
+                let (first, last) = (first as usize, last as usize);
                 let (from, to) = (first.saturating_sub(1), (last + 2).min(len));
                 let span = to - from;
+                if axis == 0 && span <= EXACT && d[base + from] == 0.0 && d[base + to - 1] == 0.0 {
+                    // The first pass's line holds only zeros and FAR: the distance to
+                    // the nearest zero, in place (the line is contiguous).
+                    let row = &mut d[base + from..base + to];
+                    line[..span].copy_from_slice(row);
+                    nearest_zero_squared(&line[..span], row);
+                    continue;
+                }
                 for (q, x) in line[..span].iter_mut().enumerate() {
                     *x = d[base + (from + q) * stride];
                 }
@@ -60,6 +87,31 @@ pub fn squared_distances(grid: &Grid, inside: &[bool]) -> Vec<f32> {
 /// half a cell).
 pub fn radius_cells(d2: f32) -> f64 {
     ((d2 as f64).sqrt() - 1.0).max(0.5)
+}
+
+/// Longest line on which [`envelope`]'s sums of squares and intersections are exact in
+/// `f32` (squares of indices up to 2¹²).
+const EXACT: usize = 4096;
+
+/// `out[q] = min_p (q - p)²` over the zeros `p` of `f`, a line of zeros and `FAR`s
+/// that starts and ends with a zero: by two scans, the same numbers [`envelope`] gives
+/// such a line of at most [`EXACT`] cells (where its arithmetic is exact; tested).
+fn nearest_zero_squared(f: &[f32], out: &mut [f32]) {
+    let mut last = 0usize;
+    for (q, (o, &x)) in out.iter_mut().zip(f).enumerate() {
+        if x == 0.0 {
+            last = q;
+        }
+        *o = (q - last) as f32;
+    }
+    let mut next = f.len().saturating_sub(1);
+    for (q, (o, &x)) in out.iter_mut().zip(f).enumerate().rev() {
+        if x == 0.0 {
+            next = q;
+        }
+        let dq = o.min((next - q) as f32);
+        *o = dq * dq;
+    }
 }
 
 /// One dimension: `out[q] = min_p (q - p)² + f[p]` (the lower envelope of parabolas).
@@ -104,6 +156,42 @@ fn envelope(f: &[f32], out: &mut [f32], v: &mut [usize], z: &mut [f32]) {
 mod tests {
     use super::*;
     use glam::DVec3;
+
+    #[test]
+    fn nearest_zero_scans_match_the_envelope_on_lines_of_zeros_and_far() {
+        // Pseudo-random lines of zeros and FARs with zeros at both ends, lengths 2..400,
+        // sparse and dense zeros; the two scans must give the envelope's bits, and
+        // the distance to the nearest zero squared (brute force).
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for len in 2..400usize {
+            for density in [2u64, 8, 64] {
+                let mut f: Vec<f32> = (0..len)
+                    .map(|_| if next() % density == 0 { 0.0 } else { FAR })
+                    .collect();
+                f[0] = 0.0;
+                f[len - 1] = 0.0;
+                let (mut a, mut b) = (vec![0f32; len], vec![0f32; len]);
+                let (mut v, mut z) = (vec![0usize; len], vec![0f32; len + 1]);
+                envelope(&f, &mut a, &mut v, &mut z);
+                nearest_zero_squared(&f, &mut b);
+                for q in 0..len {
+                    let near = (0..len)
+                        .filter(|&p| f[p] == 0.0)
+                        .map(|p| q.abs_diff(p))
+                        .min()
+                        .unwrap_or(0);
+                    assert_eq!(a[q].to_bits(), b[q].to_bits(), "len {len} cell {q}");
+                    assert_eq!(b[q], (near * near) as f32, "len {len} cell {q}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn a_ball_matches_brute_force() {

@@ -56,23 +56,24 @@ pub struct LevelGraph {
 /// Cells of a solid grouped by 26-connectivity, largest group first. Inside cells must
 /// lie at least one cell from the grid's faces (the voxelizer's padding ensures it).
 pub fn components(grid: &Grid, inside: &[bool]) -> Vec<Vec<u32>> {
-    let offs = grid.neighbours();
-    let mut seen = vec![false; inside.len()];
+    let offs = grid.neighbours().map(|(o, _)| o);
+    // Inside cells not yet taken by a component.
+    let mut open = inside.to_vec();
     let mut out = Vec::new();
     for start in 0..inside.len() {
-        if !inside[start] || seen[start] {
+        if !open[start] {
             continue;
         }
-        seen[start] = true;
+        open[start] = false;
         let mut comp = vec![start as u32];
         let mut k = 0;
         while k < comp.len() {
             let c = comp[k] as usize;
             k += 1;
-            for (o, _) in offs {
+            for o in offs {
                 let m = (c as isize + o) as usize;
-                if inside[m] && !seen[m] {
-                    seen[m] = true;
+                if open[m] {
+                    open[m] = false;
                     comp.push(m as u32);
                 }
             }
@@ -87,7 +88,9 @@ pub fn components(grid: &Grid, inside: &[bool]) -> Vec<Vec<u32>> {
 /// (`u32::MAX` elsewhere). `member[c]` tells whether cell `c` is one of `cells`.
 pub fn geodesic(grid: &Grid, member: &[bool], seed: u32) -> Vec<u32> {
     let offs = weighted(grid);
-    let mut dist = vec![u32::MAX; member.len()];
+    // Cells off the component start at 0, so no step ever improves them: the relaxation
+    // needs no membership test. They get `u32::MAX` at the end.
+    let mut dist: Vec<u32> = member.iter().map(|&m| if m { u32::MAX } else { 0 }).collect();
     // Dial's algorithm: a ring of buckets, one per distance modulo (max step + 1).
     const RING: usize = 18;
     let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); RING];
@@ -104,9 +107,6 @@ pub fn geodesic(grid: &Grid, member: &[bool], seed: u32) -> Vec<u32> {
             }
             for &(o, w) in &offs {
                 let m = (c as isize + o) as usize;
-                if !member[m] {
-                    continue;
-                }
                 let nd = d + w;
                 if nd < dist[m] {
                     dist[m] = nd;
@@ -116,6 +116,11 @@ pub fn geodesic(grid: &Grid, member: &[bool], seed: u32) -> Vec<u32> {
             }
         }
         d += 1;
+    }
+    for (x, &m) in dist.iter_mut().zip(member) {
+        if !m {
+            *x = u32::MAX;
+        }
     }
     dist
 }
@@ -151,16 +156,29 @@ pub fn level_graph(grid: &Grid, member: &[bool], d2: &[f32], cells: &[u32], seed
     }
     let forward: Vec<isize> = grid.neighbours().iter().map(|&(o, _)| o).filter(|&o| o > 0).collect();
     let mut parent: Vec<u32> = (0..cells.len() as u32).collect();
+    // Touching cells of different bands, by position in `cells`: the only pairs that can
+    // join two clusters (touching cells of one band are in one cluster).
+    let mut crossing: Vec<(u32, u32)> = Vec::new();
     for (i, &c) in cells.iter().enumerate() {
         let c = c as usize;
         if dist[c] == u32::MAX {
             continue;
         }
         let b = band_of(c);
+        let mut root = find(&mut parent, i as u32);
         for &o in &forward {
             let m = (c as isize + o) as usize;
-            if band[m] == b {
-                union(&mut parent, i as u32, slot[m]);
+            let bm = band[m];
+            if bm == b {
+                let other = find(&mut parent, slot[m]);
+                if other != root {
+                    // The smaller root wins (any rule gives the same partition).
+                    let (lo, hi) = (root.min(other), root.max(other));
+                    parent[hi as usize] = lo;
+                    root = lo;
+                }
+            } else if bm != u32::MAX {
+                crossing.push((i as u32, slot[m]));
             }
         }
     }
@@ -244,27 +262,13 @@ pub fn level_graph(grid: &Grid, member: &[bool], d2: &[f32], cells: &[u32], seed
     // Edges between touching clusters of consecutive bands: every touching cell pair
     // as a key (smaller cluster in the high half), sorted, counted by runs.
     // Neighbouring cells mostly give the pair just counted: runs are counted as they come.
-    // `slot` now holds each cell's cluster (`u32::MAX` off the component or unreached).
     let mut pairs: Vec<(u64, u32)> = Vec::new();
-    for (i, &c) in cells.iter().enumerate() {
-        slot[c as usize] = cluster_of[i];
-    }
-    for (i, &c) in cells.iter().enumerate() {
-        let c = c as usize;
-        let ka = cluster_of[i];
-        if ka == u32::MAX {
-            continue;
-        }
-        for &o in &forward {
-            let kb = slot[(c as isize + o) as usize];
-            if kb == u32::MAX || kb == ka {
-                continue;
-            }
-            let key = ((ka.min(kb) as u64) << 32) | ka.max(kb) as u64;
-            match pairs.last_mut() {
-                Some((k, n)) if *k == key => *n += 1,
-                _ => pairs.push((key, 1)),
-            }
+    for &(i, j) in &crossing {
+        let (ka, kb) = (cluster_of[i as usize], cluster_of[j as usize]);
+        let key = ((ka.min(kb) as u64) << 32) | ka.max(kb) as u64;
+        match pairs.last_mut() {
+            Some((k, n)) if *k == key => *n += 1,
+            _ => pairs.push((key, 1)),
         }
     }
     pairs.sort_unstable();
@@ -289,12 +293,4 @@ fn find(parent: &mut [u32], mut x: u32) -> u32 {
         x = p;
     }
     x
-}
-
-fn union(parent: &mut [u32], a: u32, b: u32) {
-    let (ra, rb) = (find(parent, a), find(parent, b));
-    if ra != rb {
-        let (lo, hi) = (ra.min(rb), ra.max(rb));
-        parent[hi as usize] = lo;
-    }
 }

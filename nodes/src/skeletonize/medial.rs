@@ -8,9 +8,6 @@
 //! `length / d⁴`: a path that keeps to the medial axis (the penalized distance of
 //! TEASAR, Sato et al., Pacific Graphics 2000), searched in a box around the edge.
 
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
-
 use glam::DVec3;
 
 use super::curve::CurveGraph;
@@ -122,14 +119,14 @@ fn medial_path(grid: &Grid, d2: &[f32], member: &[bool], from: usize, to: usize,
     let (start, goal) = (local(ca), local(cb));
     cost[start] = 0.0;
     global[start] = from;
-    let mut heap = BinaryHeap::new();
-    heap.push(Reverse((0u32, start as u32)));
-    while let Some(Reverse((bits, lc))) = heap.pop() {
-        let d = f32::from_bits(bits);
-        let lc = lc as usize;
-        if d > cost[lc] {
-            continue;
-        }
+    // Keys `cost bits << 32 | box index`: one integer comparison orders them like the
+    // pair (cost, index), ties broken by index.
+    let key = |cost: f32, lc: usize| (u64::from(cost.to_bits()) << 32) | lc as u64;
+    let mut heap = IndexedHeap::new(n);
+    heap.push_or_decrease(key(0.0, start));
+    while let Some(k) = heap.pop() {
+        let d = f32::from_bits((k >> 32) as u32);
+        let lc = (k & ITEM) as usize;
         if lc == goal {
             break;
         }
@@ -147,7 +144,7 @@ fn medial_path(grid: &Grid, d2: &[f32], member: &[bool], from: usize, to: usize,
                 parent[lm] = lc as u32;
                 global[lm] = m;
                 // Non-negative floats order like their bit patterns.
-                heap.push(Reverse((nd.to_bits(), lm as u32)));
+                heap.push_or_decrease(key(nd, lm));
             }
         }
     }
@@ -165,4 +162,90 @@ fn medial_path(grid: &Grid, d2: &[f32], member: &[bool], from: usize, to: usize,
     }
     path.reverse();
     Some(path)
+}
+
+/// The low 32 bits of a heap key: its item.
+const ITEM: u64 = u32::MAX as u64;
+
+/// A 4-ary min-heap of distinct `u64` keys whose low 32 bits name an item (a box
+/// index), holding at most one key per item: a smaller key for an item already queued
+/// replaces its key (decrease-key). Popping yields the least key, as a binary heap with
+/// a key pushed per improvement and stale keys skipped would (an item's stale keys are
+/// larger than its live one), with fewer and shallower moves.
+struct IndexedHeap {
+    keys: Vec<u64>,
+    /// Position of each item in `keys` (`u32::MAX`: not queued).
+    pos: Vec<u32>,
+}
+
+impl IndexedHeap {
+    fn new(items: usize) -> Self {
+        IndexedHeap {
+            keys: Vec::new(),
+            pos: vec![u32::MAX; items],
+        }
+    }
+
+    /// Queues `key`'s item with `key`, which must be less than its queued key if any.
+    fn push_or_decrease(&mut self, key: u64) {
+        let at = match self.pos[(key & ITEM) as usize] {
+            u32::MAX => {
+                self.keys.push(key);
+                self.keys.len() - 1
+            }
+            p => p as usize,
+        };
+        self.sift_up(at, key);
+    }
+
+    /// Removes and returns the least key.
+    fn pop(&mut self) -> Option<u64> {
+        let top = *self.keys.first()?;
+        self.pos[(top & ITEM) as usize] = u32::MAX;
+        let last = self.keys.pop()?;
+        if !self.keys.is_empty() {
+            self.sift_down(0, last);
+        }
+        Some(top)
+    }
+
+    fn place(&mut self, at: usize, key: u64) {
+        self.keys[at] = key;
+        self.pos[(key & ITEM) as usize] = at as u32;
+    }
+
+    fn sift_up(&mut self, mut at: usize, key: u64) {
+        while at > 0 {
+            let up = (at - 1) / 4;
+            let k = self.keys[up];
+            if k <= key {
+                break;
+            }
+            self.place(at, k);
+            at = up;
+        }
+        self.place(at, key);
+    }
+
+    fn sift_down(&mut self, mut at: usize, key: u64) {
+        let n = self.keys.len();
+        loop {
+            let first = 4 * at + 1;
+            if first >= n {
+                break;
+            }
+            let (mut best, mut least) = (first, self.keys[first]);
+            for c in first + 1..(first + 4).min(n) {
+                if self.keys[c] < least {
+                    (best, least) = (c, self.keys[c]);
+                }
+            }
+            if least >= key {
+                break;
+            }
+            self.place(at, least);
+            at = best;
+        }
+        self.place(at, key);
+    }
 }

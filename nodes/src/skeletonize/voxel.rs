@@ -68,7 +68,8 @@ impl Grid {
 
     /// The cell containing world point `p`, if it is in the grid.
     pub fn cell_of(&self, p: DVec3) -> Option<usize> {
-        let q = ((p - self.origin) / self.h).floor();
+        // Truncation is the floor on non-negative numbers (and needs no libm call).
+        let q = (p - self.origin) / self.h;
         let ok = (0..3).all(|a| q[a] >= 0.0 && (q[a] as usize) < self.dims[a]);
         ok.then(|| self.index(q.x as usize, q.y as usize, q.z as usize))
     }
@@ -251,6 +252,8 @@ pub fn rasterize(mesh: &Mesh, grid: &Grid) -> Vec<bool> {
     let mut shell = vec![false; grid.len()];
     let h = grid.h;
     let half = 0.5 * h * (1.0 + 1e-9);
+    let mut corners: Vec<f64> = Vec::new();
+    let strides = [1, grid.dims[0], grid.dims[0] * grid.dims[1]];
     for t in &mesh.triangles {
         let Some(p) = tri_points(mesh, t, grid.origin) else {
             continue;
@@ -258,19 +261,33 @@ pub fn rasterize(mesh: &Mesh, grid: &Grid) -> Vec<bool> {
         let n = (p[1] - p[0]).cross(p[2] - p[0]);
         let lo = p[0].min(p[1]).min(p[2]);
         let hi = p[0].max(p[1]).max(p[2]);
-        let cell = |x: f64, a: usize| ((x / h).floor().max(0.0) as usize).min(grid.dims[a] - 1);
+        // The cell of coordinate x along axis a, clamped to the grid: truncation is the
+        // floor on non-negative numbers, and negative ones (and NaN) give 0 either way.
+        let cell = |x: f64, a: usize| ((x / h) as usize).min(grid.dims[a] - 1);
         let (c0, c1) = ([0, 1, 2].map(|a| cell(lo[a], a)), [0, 1, 2].map(|a| cell(hi[a], a)));
         let d = n.abs().max_position();
         let (a, b) = ((d + 1) % 3, (d + 2) % 3);
         let plane = n.dot(p[0]);
+        let tilted = n[d].abs() > 1e-300;
+        // The plane's coordinate along d over the column corners (xa, xb), computed once
+        // per corner instead of once per column using it.
+        let row = c1[a] - c0[a] + 2;
+        if tilted {
+            corners.clear();
+            for xb in c0[b]..=c1[b] + 1 {
+                for xa in c0[a]..=c1[a] + 1 {
+                    corners.push((plane - n[a] * xa as f64 * h - n[b] * xb as f64 * h) / n[d]);
+                }
+            }
+        }
         for ia in c0[a]..=c1[a] {
             for ib in c0[b]..=c1[b] {
                 // The range of the triangle's plane over this column, in cells along d.
                 let (mut dmin, mut dmax) = (lo[d], hi[d]);
-                if n[d].abs() > 1e-300 {
+                if tilted {
                     let (mut pmin, mut pmax) = (f64::INFINITY, f64::NEG_INFINITY);
-                    for (xa, xb) in [(ia, ib), (ia + 1, ib), (ia, ib + 1), (ia + 1, ib + 1)] {
-                        let v = (plane - n[a] * xa as f64 * h - n[b] * xb as f64 * h) / n[d];
+                    let at = (ia - c0[a]) + row * (ib - c0[b]);
+                    for v in [corners[at], corners[at + 1], corners[at + row], corners[at + row + 1]] {
                         pmin = pmin.min(v);
                         pmax = pmax.max(v);
                     }
@@ -280,17 +297,19 @@ pub fn rasterize(mesh: &Mesh, grid: &Grid) -> Vec<bool> {
                 if dmin > dmax {
                     continue;
                 }
+                // The column's first cell index and its centre's coordinates along a and
+                // b (those of every cell in it).
+                let column = ia * strides[a] + ib * strides[b];
+                let mut centre = DVec3::ZERO;
+                centre[a] = (ia as f64 + 0.5) * h;
+                centre[b] = (ib as f64 + 0.5) * h;
                 for id in cell(dmin, d)..=cell(dmax, d) {
-                    let mut ijk = [0usize; 3];
-                    ijk[a] = ia;
-                    ijk[b] = ib;
-                    ijk[d] = id;
-                    let c = grid.index(ijk[0], ijk[1], ijk[2]);
+                    let c = column + id * strides[d];
                     if shell[c] {
                         continue;
                     }
-                    let centre = (DVec3::new(ijk[0] as f64, ijk[1] as f64, ijk[2] as f64) + 0.5) * h;
-                    if tri_box_overlap(p.map(|q| q - centre), half) {
+                    centre[d] = (id as f64 + 0.5) * h;
+                    if tri_box_overlap([p[0] - centre, p[1] - centre, p[2] - centre], half) {
                         shell[c] = true;
                     }
                 }
@@ -311,6 +330,7 @@ fn tri_points(mesh: &Mesh, t: &[u32; 3], origin: DVec3) -> Option<[DVec3; 3]> {
 /// Triangle (relative to the box centre) against the cube of half size `e`: the
 /// separating-axis test of Akenine-Möller (2001) over the box axes, the triangle's
 /// normal and the nine edge cross products.
+#[inline]
 pub fn tri_box_overlap(v: [DVec3; 3], e: f64) -> bool {
     let (lo, hi) = (v[0].min(v[1]).min(v[2]), v[0].max(v[1]).max(v[2]));
     if lo.max_element() > e || hi.min_element() < -e {
@@ -324,16 +344,29 @@ pub fn tri_box_overlap(v: [DVec3; 3], e: f64) -> bool {
     // The nine axes `box axis × edge`: X × f = (0, −f.z, f.y), Y × f = (f.z, 0, −f.x),
     // Z × f = (−f.y, f.x, 0). Each has a zero component, so its dot products and
     // radius are sums of two terms (the same values as the full three-term sums).
-    let separated = |i: usize, j: usize, ai: f64, aj: f64| {
-        if ai == 0.0 && aj == 0.0 {
-            return false;
-        }
-        let p = v.map(|q| ai * q[i] + aj * q[j]);
-        let r = e * (ai.abs() + aj.abs());
-        p[0].min(p[1]).min(p[2]) > r || p[0].max(p[1]).max(p[2]) < -r
-    };
-    !f.iter()
-        .any(|fi| separated(1, 2, -fi.z, fi.y) || separated(0, 2, fi.z, -fi.x) || separated(0, 1, -fi.y, fi.x))
+    let (xs, ys, zs) = (v.map(|q| q.x), v.map(|q| q.y), v.map(|q| q.z));
+    !f.iter().any(|fi| {
+        axis_separates(-fi.z, fi.y, ys, zs, e)
+            || axis_separates(fi.z, -fi.x, xs, zs, e)
+            || axis_separates(-fi.y, fi.x, xs, ys, e)
+    })
+}
+
+/// Whether the axis with components `ai` and `aj` (along two box axes; zero along the
+/// third) separates the triangle, whose vertices have coordinates `qi` and `qj` along
+/// those box axes, from the cube of half size `e`. A zero axis separates nothing.
+#[inline(always)]
+fn axis_separates(ai: f64, aj: f64, qi: [f64; 3], qj: [f64; 3], e: f64) -> bool {
+    if ai == 0.0 && aj == 0.0 {
+        return false;
+    }
+    let (p0, p1, p2) = (
+        ai * qi[0] + aj * qj[0],
+        ai * qi[1] + aj * qj[1],
+        ai * qi[2] + aj * qj[2],
+    );
+    let r = e * (ai.abs() + aj.abs());
+    p0.min(p1).min(p2) > r || p0.max(p1).max(p2) < -r
 }
 
 /// Inside cells: those the outside cannot reach from the border through cells off the
@@ -425,24 +458,58 @@ fn flood_rows(grid: &Grid, state: &mut [u8], mut stack: Vec<usize>, free: u8, to
             continue;
         }
         let (mut l, mut r) = (c, c);
+        // Eight cells at a time while all eight are free, then one at a time.
+        let all_free = |s: &[u8]| s.iter().all(|&x| x == free);
+        while l >= 8 && all_free(&state[l - 8..l]) {
+            l -= 8;
+        }
         while state[l - 1] == free {
             l -= 1;
+        }
+        while state.get(r + 1..r + 9).is_some_and(all_free) {
+            r += 8;
         }
         while state[r + 1] == free {
             r += 1;
         }
         state[l..=r].fill(to);
         for off in [-sy, sy, -sz, sz] {
-            let (a, b) = ((l as isize + off) as usize, (r as isize + off) as usize);
-            let mut open = false;
-            for (m, &s) in state[a..=b].iter().enumerate() {
-                let f = s == free;
-                if f && !open {
-                    stack.push(a + m);
-                }
-                open = f;
+            let a = (l as isize + off) as usize;
+            push_run_starts(&state[a..=(r as isize + off) as usize], a, free, &mut stack);
+        }
+    }
+}
+
+/// Pushes `base + m` for the first cell `m` of every run of `free` cells in `row`.
+/// Eight cells at a time where none of them is `free` (the usual case: rows already
+/// filled or walled), one at a time elsewhere; the same cells as a plain scan.
+fn push_run_starts(row: &[u8], base: usize, free: u8, stack: &mut Vec<usize>) {
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    const HIGHS: u64 = 0x8080_8080_8080_8080;
+    let pattern = u64::from(free) * ONES;
+    let mut open = false;
+    let mut m = 0;
+    while m < row.len() {
+        if let Some(chunk) = row.get(m..m + 8) {
+            let mut bytes = [0u8; 8];
+            bytes.copy_from_slice(chunk);
+            // Zero bytes of `x` are the `free` cells (the exact has-a-zero-byte test).
+            let x = u64::from_le_bytes(bytes) ^ pattern;
+            if x.wrapping_sub(ONES) & !x & HIGHS == 0 {
+                open = false;
+                m += 8;
+                continue;
             }
         }
+        let end = (m + 8).min(row.len());
+        for (k, &s) in row[m..end].iter().enumerate() {
+            let f = s == free;
+            if f && !open {
+                stack.push(base + m + k);
+            }
+            open = f;
+        }
+        m = end;
     }
 }
 
