@@ -298,6 +298,35 @@ impl PowerLattice {
     #[inline]
     unsafe fn block_avx2(&self, to: &Affine, all: bool, b: &mut Block) -> bool {
         use std::arch::x86_64::*;
+        let (x, y, z) = (
+            _mm256_loadu_ps(b[0].as_ptr()),
+            _mm256_loadu_ps(b[1].as_ptr()),
+            _mm256_loadu_ps(b[2].as_ptr()),
+        );
+        let Some(r) = self.eval_avx2(to, all, [x, y, z]) else {
+            return false;
+        };
+        for (lane, r) in b.iter_mut().zip(r) {
+            _mm256_storeu_ps(lane.as_mut_ptr(), r);
+        }
+        true
+    }
+
+    /// The ffd of 8 object-space points (one register per axis) as [`PowerLattice::block`]
+    /// computes it, or `None` when they are not all in one window triple.
+    ///
+    /// # Safety
+    /// The CPU must support AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    unsafe fn eval_avx2(
+        &self,
+        to: &Affine,
+        all: bool,
+        [x, y, z]: [std::arch::x86_64::__m256; 3],
+    ) -> Option<[std::arch::x86_64::__m256; 3]> {
+        use std::arch::x86_64::*;
         const _: () = assert!(LANES == 8);
         // Macros rather than closures: a closure does not inherit the function's target
         // features, so it would not be inlined.
@@ -311,11 +340,6 @@ impl PowerLattice {
                 _mm256_set1_ps($v)
             };
         }
-        let (x, y, z) = (
-            _mm256_loadu_ps(b[0].as_ptr()),
-            _mm256_loadu_ps(b[1].as_ptr()),
-            _mm256_loadu_ps(b[2].as_ptr()),
-        );
         let m = to.to_array();
         let half = splat!(0.5);
         // As `Affine::apply`, then + ½.
@@ -350,7 +374,7 @@ impl PowerLattice {
                     ok = _mm256_and_ps(ok, _mm256_cmp_ps::<_CMP_LT_OQ>(f, hi));
                 }
                 if _mm256_movemask_ps(ok) != 0xff {
-                    return false;
+                    return None;
                 }
             }
         }
@@ -358,32 +382,113 @@ impl PowerLattice {
         let ps = step!(stu[0], splat!(scale[0]), splat!(shift[0]));
         let pt = step!(stu[1], splat!(scale[1]), splat!(shift[1]));
         let pu = step!(stu[2], splat!(scale[2]), splat!(shift[2]));
-        // Rows of 2, 3 or 4 points (the usual s divisions) with their Horner steps unrolled.
-        let [zx, zy, zz] = match na {
-            2 => horner_avx2::<2>(coeffs, [na, nb, nc], [ps, pt, pu]),
-            3 => horner_avx2::<3>(coeffs, [na, nb, nc], [ps, pt, pu]),
-            4 => horner_avx2::<4>(coeffs, [na, nb, nc], [ps, pt, pu]),
-            _ => horner_avx2::<0>(coeffs, [na, nb, nc], [ps, pt, pu]),
+        // Maya's default lattice (2 × 5 × 2 points) and its local windows (2 × 3 × 2) fully
+        // unrolled, in registers; rows of 2, 3 or 4 points (the usual s divisions) with their
+        // Horner steps unrolled.
+        let n = [na, nb, nc];
+        let p = [ps, pt, pu];
+        let [zx, zy, zz] = match n {
+            [2, 5, 2] => horner_avx2::<2, 5, 2>(coeffs, n, p),
+            [2, 3, 2] => horner_avx2::<2, 3, 2>(coeffs, n, p),
+            [2, 2, 2] => horner_avx2::<2, 2, 2>(coeffs, n, p),
+            [2, ..] => horner_avx2::<2, 0, 0>(coeffs, n, p),
+            [3, ..] => horner_avx2::<3, 0, 0>(coeffs, n, p),
+            [4, ..] => horner_avx2::<4, 0, 0>(coeffs, n, p),
+            _ => horner_avx2::<0, 0, 0>(coeffs, n, p),
         };
         // Points kept (outside, `inside` mode) keep their input.
-        let moved = if all { every } else { inside };
-        _mm256_storeu_ps(b[0].as_mut_ptr(), _mm256_blendv_ps(x, zx, moved));
-        _mm256_storeu_ps(b[1].as_mut_ptr(), _mm256_blendv_ps(y, zy, moved));
-        _mm256_storeu_ps(b[2].as_mut_ptr(), _mm256_blendv_ps(z, zz, moved));
-        true
+        if all {
+            return Some([zx, zy, zz]);
+        }
+        Some([
+            _mm256_blendv_ps(x, zx, inside),
+            _mm256_blendv_ps(y, zy, inside),
+            _mm256_blendv_ps(z, zz, inside),
+        ])
+    }
+
+    /// The dense ffd loop (every vertex, weight 1) with AVX2, without the detour through
+    /// [`Block`] arrays: `out[v] = input[v] + (f(input[v]) − input[v]) · envelope` (or
+    /// `f(input[v])` at envelope 1), with `f` [`PowerLattice::block`]'s map eight vertices at a
+    /// time and `point` (which must be the same map, as the per-point path) for blocks across
+    /// local windows and the last vertices. The same bits as `deform_blocks` with those maps.
+    /// False (nothing written) on CPUs without AVX2.
+    pub fn dense(
+        &self,
+        to: &Affine,
+        all: bool,
+        input: &[Vec3],
+        out: &mut [Vec3],
+        envelope: f32,
+        point: &impl Fn(Vec3) -> Vec3,
+    ) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU was just checked to have AVX2.
+            unsafe { self.dense_avx2(to, all, input, out, envelope, point) };
+            return true;
+        }
+        let _ = (to, all, input, out, envelope, point);
+        false
+    }
+
+    /// [`PowerLattice::dense`] on a CPU with AVX2.
+    ///
+    /// # Safety
+    /// The CPU must support AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn dense_avx2(
+        &self,
+        to: &Affine,
+        all: bool,
+        input: &[Vec3],
+        out: &mut [Vec3],
+        envelope: f32,
+        point: &impl Fn(Vec3) -> Vec3,
+    ) {
+        use crate::deformer::simd::{blend_store8_regs, load8};
+        let n = input.len().min(out.len());
+        let (input, out) = (&input[..n], &mut out[..n]);
+        let one = |p: Vec3| {
+            let d = point(p);
+            if envelope == 1.0 {
+                d
+            } else {
+                p + (d - p) * envelope
+            }
+        };
+        let whole = n - n % LANES;
+        for (ci, co) in input[..whole]
+            .chunks_exact(LANES)
+            .zip(out[..whole].chunks_exact_mut(LANES))
+        {
+            let p = load8(ci);
+            match self.eval_avx2(to, all, p) {
+                Some(r) => blend_store8_regs(co, r, p, envelope),
+                None => {
+                    for (o, &q) in co.iter_mut().zip(ci) {
+                        *o = one(q);
+                    }
+                }
+            }
+        }
+        for (o, &q) in out[whole..].iter_mut().zip(&input[whole..]) {
+            *o = one(q);
+        }
     }
 }
 
 /// The nested Horner evaluation of [`PowerLattice::point`] for 8 points with AVX2 (a multiply
-/// then an add per step, no fused multiply-add: the same bits). `NA` is the row length `na`
-/// when known at compile time (its steps unrolled), 0 otherwise.
+/// then an add per step, no fused multiply-add: the same bits). `NA`, `NB`, `NC` are `na`,
+/// `nb`, `nc` when known at compile time (their loops unrolled), 0 otherwise.
 ///
 /// # Safety
 /// The CPU must support AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 #[inline]
-unsafe fn horner_avx2<const NA: usize>(
+unsafe fn horner_avx2<const NA: usize, const NB: usize, const NC: usize>(
     coeffs: &[Vec3],
     [na, nb, nc]: [usize; 3],
     [ps, pt, pu]: [std::arch::x86_64::__m256; 3],
@@ -395,6 +500,9 @@ unsafe fn horner_avx2<const NA: usize>(
         };
     }
     let na = if NA > 0 { NA } else { na };
+    let nb = if NB > 0 { NB } else { nb };
+    let nc = if NC > 0 { NC } else { nc };
+    let coeffs = &coeffs[..na * nb * nc];
     let zero = _mm256_setzero_ps();
     let (mut zx, mut zy, mut zz) = (zero, zero, zero);
     for c in (0..nc).rev() {
@@ -534,7 +642,57 @@ mod tests {
 
     #[test]
     fn blocks_give_the_point_bits_and_refuse_mixed_windows() {
-        let l = bumpy([3, 5, 2]);
+        // 2 × 5 × 2 (Maya's default; local windows 2 × 3 × 2) and 3 × 5 × 2 take different
+        // unrolled AVX2 evaluations.
+        for div in [[3, 5, 2], [2, 5, 2]] {
+            blocks_give_the_point_bits(div);
+        }
+    }
+
+    #[test]
+    fn the_dense_loop_gives_the_point_bits() {
+        // 203 points on a spiral through the 2 × 5 × 2 lattice and out of it (some blocks
+        // across local windows, a tail of 3), both modes, envelope 1 and 0.3: the dense loop
+        // must write what the per-point map blended by the envelope gives.
+        let l = bumpy([2, 5, 2]);
+        let back = Affine::new(Mat4::from_scale(Vec3::splat(2.0)));
+        let to = Affine::new(Mat4::from_rotation_z(0.1) * Mat4::from_scale(Vec3::splat(0.5)));
+        let input: Vec<Vec3> = (0..203)
+            .map(|i| {
+                let a = i as f32 * 0.37;
+                Vec3::new(0.8 * a.cos(), -1.1 + 0.011 * i as f32, 0.6 * a.sin())
+            })
+            .collect();
+        let mut power = PowerLattice::default();
+        for local in [None, Some([2, 2, 2])] {
+            power.prepare(&l, local, &back);
+            for all in [false, true] {
+                let point = |p: Vec3| {
+                    let stu = to.apply(p) + 0.5;
+                    if all || inside(stu) {
+                        power.point(stu)
+                    } else {
+                        p
+                    }
+                };
+                for envelope in [1.0, 0.3] {
+                    let mut out = vec![Vec3::NAN; input.len()];
+                    if !power.dense(&to, all, &input, &mut out, envelope, &point) {
+                        println!("skipped: no AVX2 on this CPU");
+                        return;
+                    }
+                    for (o, &p) in out.iter().zip(&input) {
+                        let d = point(p);
+                        let want = if envelope == 1.0 { d } else { p + (d - p) * envelope };
+                        assert_eq!(o.to_array().map(f32::to_bits), want.to_array().map(f32::to_bits));
+                    }
+                }
+            }
+        }
+    }
+
+    fn blocks_give_the_point_bits(div: [usize; 3]) {
+        let l = bumpy(div);
         let back = Affine::new(Mat4::from_scale(Vec3::splat(2.0)));
         // Object space to lattice space: turned a little and halved (then + ½).
         let to = Affine::new(Mat4::from_rotation_z(0.1) * Mat4::from_scale(Vec3::splat(0.5)));
