@@ -389,3 +389,181 @@ fn deformer_short_names_on_the_command_line() {
     assert_eq!(out.lines().nth(1), Some("1,0.25,0.25,1.0,2.0"), "{out}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The one OBJ file `sinew eval --format obj` wrote into `dir`.
+fn only_file(dir: &std::path::Path) -> std::path::PathBuf {
+    std::fs::read_dir(dir).unwrap().next().unwrap().unwrap().path()
+}
+
+/// The positions of an OBJ file's `v` lines.
+fn obj_vertices(file: &std::path::Path) -> Vec<[f64; 3]> {
+    let text = std::fs::read_to_string(file).unwrap();
+    text.lines()
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|l| {
+            let n: Vec<f64> = l.split_whitespace().map(|x| x.parse().unwrap()).collect();
+            [n[0], n[1], n[2]]
+        })
+        .collect()
+}
+
+#[test]
+fn corrective_inverts_a_sculpt_through_the_skin() {
+    let dir = std::env::temp_dir().join(format!("sinew-corrective-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let rig = dir.join("rig.ron");
+    // The joint turns 90 degrees about z by frame 10; every vertex follows it fully.
+    std::fs::write(
+        &rig,
+        r#"Rig(nodes: {
+  // the corrective goes here
+  "bs": blendShape(),
+  "j": joint(),
+  "turn": animCurveTA(keyTime: [0, 10], keyValue: [0.0, 90.0]),
+  "body": mesh(inMesh: (positions: [(1, 0, 0), (0, 1, 0), (0, 0, 1)], triangles: [(0, 1, 2)]), deformers: ["bs", "skin"]),
+  "skin": skinCluster(weightList: [[(0, 1.0)], [(0, 1.0)], [(0, 1.0)]]),
+}, connections: ["turn.output -> j.rotateZ", "j.worldMatrix -> skin.matrix[0]"])"#,
+    )
+    .unwrap();
+    let r = rig.to_str().unwrap();
+    let posed_dir = dir.join("posed");
+    let args = [
+        "--frames",
+        "10",
+        "--print",
+        "skin.outputGeometry",
+        "--format",
+        "obj",
+        "-o",
+    ];
+    let (code, _, err) = sinew(&[&["eval", r][..], &args, &[posed_dir.to_str().unwrap()]].concat());
+    assert_eq!(code, 0, "{err}");
+    // Sculpt: vertex 1, posed at (-1, 0, 0), moved by +y.
+    let posed = only_file(&posed_dir);
+    let v = obj_vertices(&posed);
+    let text = std::fs::read_to_string(&posed).unwrap();
+    let old = format!("v {} {} {}", v[1][0], v[1][1], v[1][2]);
+    assert!(text.contains(&old), "{text}");
+    let sculpt = dir.join("sculpt.obj");
+    std::fs::write(
+        &sculpt,
+        text.replace(&old, &format!("v {} {} {}", v[1][0], v[1][1] + 1.0, v[1][2])),
+    )
+    .unwrap();
+    let out = dir.join("fixed.ron");
+    let run = |o: &std::path::Path, bs: &str, s: &std::path::Path| {
+        sinew(&[
+            "corrective",
+            r,
+            "--blend-shape",
+            bs,
+            "--target",
+            "0",
+            "--frame",
+            "10",
+            "--sculpt",
+            s.to_str().unwrap(),
+            "-o",
+            o.to_str().unwrap(),
+        ])
+    };
+    let (code, msg, err) = run(&out, "bs", &sculpt);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        msg.contains("moves 1 vertices") && msg.contains("skin.outputGeometry"),
+        "{msg}"
+    );
+    let saved = std::fs::read_to_string(&out).unwrap();
+    assert!(
+        saved.contains("// the corrective goes here") && saved.contains("targetIndices: [[1]]"),
+        "{saved}"
+    );
+    // R⁻¹ · (0, 1, 0) = (1, 0, 0); at weight 1 the rig reproduces the sculpt.
+    let (code, deltas, err) = sinew(&[
+        "eval",
+        out.to_str().unwrap(),
+        "--frames",
+        "10",
+        "--print",
+        "bs.targetDeltas[0]",
+        "--format",
+        "jsonl",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let row: serde_json::Value = serde_json::from_str(deltas.lines().next().unwrap()).unwrap();
+    let d: Vec<f64> =
+        serde_json::from_value(row["values"]["bs.targetDeltas[0]"][0].clone()).unwrap_or_else(|e| panic!("{e}: {row}"));
+    assert!(
+        (d[0] - 1.0).abs() < 1e-6 && d[1].abs() < 1e-6 && d[2].abs() < 1e-6,
+        "{d:?}"
+    );
+    let check_dir = dir.join("check");
+    let (code, _, err) = sinew(
+        &[
+            &["eval", out.to_str().unwrap(), "--set", "bs.weight[0]=1"][..],
+            &args,
+            &[check_dir.to_str().unwrap()],
+        ]
+        .concat(),
+    );
+    assert_eq!(code, 0, "{err}");
+    let (got, want) = (obj_vertices(&only_file(&check_dir)), obj_vertices(&sculpt));
+    assert_eq!(got.len(), 3);
+    for (g, w) in got.iter().zip(&want) {
+        for k in 0..3 {
+            assert!((g[k] - w[k]).abs() < 1e-6, "{got:?} vs {want:?}");
+        }
+    }
+    // Errors: an output over the input, not .ron, not a blendShape, a sculpt of another mesh.
+    let (code, _, err) = run(&rig, "bs", &sculpt);
+    assert!(code == 1 && err.contains("overwrite"), "{err}");
+    let (code, _, err) = run(&dir.join("fixed.txt"), "bs", &sculpt);
+    assert!(code == 1 && err.contains(".ron"), "{err}");
+    let (code, _, err) = run(&out, "skin", &sculpt);
+    assert!(code == 1 && err.contains("is a skinCluster, not a blendShape"), "{err}");
+    let short = dir.join("short.obj");
+    std::fs::write(&short, "v 0 0 0\nv 1 0 0\n").unwrap();
+    let (code, _, err) = run(&out, "bs", &short);
+    assert!(
+        code == 1 && err.contains("short.obj") && err.contains("2 vertices"),
+        "{err}"
+    );
+    // A rig using another file by a relative path is written in its own folder.
+    let main = dir.join("main.ron");
+    std::fs::write(&main, r#"Rig(uses: [Use(file: "rig.ron")])"#).unwrap();
+    let elsewhere = dir.join("sub").join("fixed.ron");
+    std::fs::create_dir_all(elsewhere.parent().unwrap()).unwrap();
+    let (code, _, err) = sinew(&[
+        "corrective",
+        main.to_str().unwrap(),
+        "--blend-shape",
+        "bs",
+        "--target",
+        "0",
+        "--sculpt",
+        sculpt.to_str().unwrap(),
+        "-o",
+        elsewhere.to_str().unwrap(),
+    ]);
+    assert!(code == 1 && err.contains("same folder"), "{err}");
+    let beside = dir.join("main_fixed.ron");
+    let (code, _, err) = sinew(&[
+        "corrective",
+        main.to_str().unwrap(),
+        "--blend-shape",
+        "bs",
+        "--target",
+        "0",
+        "--frame",
+        "10",
+        "--sculpt",
+        sculpt.to_str().unwrap(),
+        "-o",
+        beside.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&beside).unwrap();
+    assert!(text.contains(r#""bs.targetIndices[0]": [1]"#), "a set override: {text}");
+    std::fs::remove_dir_all(&dir).ok();
+}

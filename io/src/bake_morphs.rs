@@ -39,6 +39,9 @@ pub struct BlendMorphs {
     pub morphs: Vec<MorphTarget>,
     /// The existing `weight[i]` elements (their handles are sampled per frame).
     pub weight_indices: Vec<u32>,
+    /// The node's `supportNegativeWeights` (read once, at bake start): off, a weight below 0
+    /// counts as 0, as the node computes.
+    pub negative_weights: bool,
 }
 
 fn name(g: &Graph, n: NodeId) -> String {
@@ -60,6 +63,13 @@ pub fn blend_morphs(g: &mut Graph, bs: NodeId, vc: usize, warnings: &mut Vec<Str
                     .collect();
                 warnings.push(format!(
                     "{bname}: glTF cannot express tangent-space targets (postDeformersMode, target {}); their deformation is lost",
+                    ids.join(", ")
+                ));
+            }
+            if let Some(t) = &c.transform {
+                let ids: Vec<String> = t.targets.iter().map(|t| t.index.to_string()).collect();
+                warnings.push(format!(
+                    "{bname}: glTF cannot express transform-space targets (postDeformersMode, target {}); their deformation is lost",
                     ids.join(", ")
                 ));
             }
@@ -101,12 +111,17 @@ pub fn blend_morphs(g: &mut Graph, bs: NodeId, vc: usize, warnings: &mut Vec<Str
         .ok_or("blendShape without weight")?
         .0;
     let weight_indices = g.elements(bs, weight_attr);
+    let negative_weights = matches!(
+        g.get_path(&format!("{bname}.supportNegativeWeights")),
+        Ok(Value::Bool(true))
+    );
     Ok(BlendMorphs {
         node: bs,
         targets,
         keys,
         morphs,
         weight_indices,
+        negative_weights,
     })
 }
 
@@ -124,6 +139,7 @@ impl BlendMorphs {
             let Some(target) = self.targets.get(i as usize) else {
                 continue;
             };
+            let x = if self.negative_weights { x } else { x.max(0.0) };
             if !x.is_finite() || x == 0.0 {
                 continue;
             }
@@ -308,6 +324,7 @@ mod tests {
             keys: vec![(0, Key::Between(0)), (0, Key::Full)],
             morphs: Vec::new(),
             weight_indices: vec![0],
+            negative_weights: true,
         };
         for (x, want) in [
             (0.25, [0.5, 0.0]),
@@ -323,5 +340,17 @@ mod tests {
         let mut out = Vec::new();
         bm.morph_weights(&[0.75], 0.5, &mut out);
         assert_eq!(out, [0.25, 0.25]);
+        // Below 0: extrapolated along the first segment with negative weights supported
+        // (−0.25 is half the in-between's distance on the other side), 0 without.
+        let mut out = Vec::new();
+        bm.morph_weights(&[-0.25], 1.0, &mut out);
+        assert_eq!(out, [-0.5, 0.0]);
+        let bm = BlendMorphs {
+            negative_weights: false,
+            ..bm
+        };
+        let mut out = Vec::new();
+        bm.morph_weights(&[-0.25], 1.0, &mut out);
+        assert_eq!(out, [0.0, 0.0]);
     }
 }

@@ -9,7 +9,8 @@
 //!   in `offsetParentMatrix` with identity channels, so shear survives.
 //! - Each primitive of a mesh instance becomes a `mesh` node (`<node>_shape<p>`; its
 //!   `worldMatrix` is fed by the node), then a `blendShape` (`<node>_blend<p>`) when it has
-//!   morph targets (position deltas, sparse by vertex; normal deltas are not imported), then a
+//!   morph targets (position deltas, sparse by vertex; normal deltas are not imported;
+//!   `supportNegativeWeights` on, since glTF morph weights may be negative), then a
 //!   `skinCluster` (`<node>_skin<p>`) when the node has a skin: `matrix[i]` ←
 //!   `joint_i.worldMatrix`, `bindPreMatrix[i]` = the inverse bind matrix (identity when the
 //!   file has none), `weightList` = all `JOINTS_n`/`WEIGHTS_n` sets, `normalizeWeights:
@@ -189,6 +190,7 @@ pub fn import_scene(scene: &Scene, opts: &GltfImportOptions) -> Result<GltfImpor
                     .map(|t| Value::Float(weights.get(t).copied().unwrap_or(0.0)))
                     .collect();
                 rig.set_multi(k, "weight", w);
+                rig.set(k, "supportNegativeWeights", Value::Bool(true));
                 rig.set_multi(k, "targetIndices", idx);
                 rig.set_multi(k, "targetDeltas", deltas);
                 if prim.targets.iter().any(|t| !t.normals.is_empty()) {

@@ -7,6 +7,7 @@ mod bake_channels;
 mod bake_geometry;
 pub mod bake_morphs;
 pub mod bvh;
+pub mod corrective;
 mod gltf_binary;
 pub mod gltf_read;
 pub mod gltf_write;

@@ -2,8 +2,8 @@
 //! nothing either: a counting global allocator watches 21 frames of `mesh → wire → wrap →
 //! proximityWrap (smoothed) → nonLinear ×5 (twist, squash, flare, sine, wave) → softMod
 //! (volume) → ffd (local, falloff outside) → cluster (relative) → shrinkWrap (toward a centre,
-//! inflated target) → blendShape (a tangent-space target)` once warm, with the wire curve, both wrap drivers, the cluster handle
-//! and the shrinkWrap target moving every frame (dynamic inputs; the
+//! inflated target) → blendShape (a tangent-space and a transform-space target)` once warm, with the wire curve, both wrap drivers, the cluster handle,
+//! the shrinkWrap target and the transform-space target's matrix moving every frame (dynamic inputs; the
 //! moved curves and meshes are built before counting, so setting one is a reference-count
 //! increment), normals on. One test per binary: the counter is process-wide.
 
@@ -161,6 +161,16 @@ fn the_other_deformers_compiled_frames_allocate_nothing() {
     );
     set(&mut g, "tbs.postDeformersMode[0]", Value::Enum(1));
     set(&mut g, "tbs.weight[0]", Value::Float(0.7));
+    // A transform-space target (postDeformersMode 2) whose targetMatrix turns every frame.
+    set(&mut g, "tbs.targetIndices[1]", Value::IntArray(Arc::new(vec![5, 6])));
+    set(
+        &mut g,
+        "tbs.targetDeltas[1]",
+        Value::Vec3Array(Arc::new(vec![DVec3::X * 0.1; 2])),
+    );
+    set(&mut g, "tbs.postDeformersMode[1]", Value::Enum(2));
+    set(&mut g, "tbs.weight[1]", Value::Float(0.5));
+    set(&mut g, "tbs.targetMatrix[1]", Value::Matrix(DMat4::IDENTITY));
     set(&mut g, "cl.weightList[0]", Value::FloatArray(Arc::new(vec![0.5; n])));
     let dynamic = [
         "wire.deformedWire[0]",
@@ -168,6 +178,7 @@ fn the_other_deformers_compiled_frames_allocate_nothing() {
         "pwrap.driverPoints[0]",
         "cl.weightedMatrix",
         "sw.targetGeom",
+        "tbs.targetMatrix[1]",
     ]
     .map(|p| g.plug(p).unwrap())
     .to_vec();
@@ -181,12 +192,13 @@ fn the_other_deformers_compiled_frames_allocate_nothing() {
         )
         .unwrap(),
     );
-    let [h_wire, h_wrap, h_pwrap, h_cl, h_sw] = [
+    let [h_wire, h_wrap, h_pwrap, h_cl, h_sw, h_tm] = [
         "wire.deformedWire[0]",
         "wrap.driverPoints[0]",
         "pwrap.driverPoints[0]",
         "cl.weightedMatrix",
         "sw.targetGeom",
+        "tbs.targetMatrix[1]",
     ]
     .map(|p| program.handle(p).unwrap());
     let out = program.handle("tbs.outputGeometry").unwrap();
@@ -201,6 +213,8 @@ fn the_other_deformers_compiled_frames_allocate_nothing() {
         let t = DVec3::new(0.01 * (k % 5) as f64, 0.0, 0.02);
         inst.set(&h_cl, Value::Matrix(DMat4::from_translation(t))).unwrap();
         inst.set(&h_sw, Value::Mesh(drivers[(k + 1) % 5].clone())).unwrap();
+        let turn = DMat4::from_rotation_z(0.3 * (k % 5) as f64);
+        inst.set(&h_tm, Value::Matrix(turn)).unwrap();
         inst.evaluate(Time::new(k as f64, 24.0)).unwrap();
     };
     for k in 0..6 {

@@ -124,7 +124,7 @@ pub fn resolve_timing(
     Ok((range, fps))
 }
 
-fn check_fps(fps: f64, what: &str) -> Result<f64, String> {
+pub(super) fn check_fps(fps: f64, what: &str) -> Result<f64, String> {
     if fps.is_finite() && fps > 0.0 {
         Ok(fps)
     } else {

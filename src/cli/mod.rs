@@ -9,6 +9,7 @@
 //! [`paths::check_outputs`] (no output may overwrite an input; rigs end in `.ron`).
 
 mod bake_cmd;
+mod corrective_cmd;
 mod eval_cmd;
 mod eval_format;
 mod frames;
@@ -236,6 +237,9 @@ enum Command {
         #[arg(long)]
         bake_deformers_as_morphs: bool,
     },
+    /// Turn a mesh sculpted on the posed rig into a blendShape target before the skinning
+    /// (Maya's invertShape) and write the rig with it.
+    Corrective(corrective_cmd::CorrectiveArgs),
     /// Retarget a BVH take onto a rig's skeleton and bake the result to glTF.
     Retarget {
         /// The motion capture file (.bvh).
@@ -509,6 +513,7 @@ fn execute(cli: Cli, out: &mut Output<'_>) -> Result<(), CliError> {
             bake_deformers_as_morphs,
             &registry,
         )?)?,
+        Command::Corrective(args) => out.text(&corrective_cmd::corrective(&args, &registry)?)?,
         Command::Retarget {
             mocap,
             to,

@@ -22,6 +22,14 @@ fn outputs_never_overwrite_inputs() {
     let gltf = write(&d, "in.gltf", gltf_text);
     refused(&["import", &gltf, "-o", &gltf], &[]);
     assert_eq!(std::fs::read_to_string(&gltf).unwrap(), gltf_text);
+    let rig_text = r#"Rig(nodes: { "bs": blendShape(inputGeometry: (positions: [(0, 0, 0), (1, 0, 0), (0, 1, 0)], triangles: [(0, 1, 2)])) })"#;
+    let rig = write(&d, "in.ron", rig_text);
+    let sculpt = ["--blend-shape", "bs", "--target", "0", "--sculpt", &obj];
+    refused(
+        &[&["corrective", &rig][..], &sculpt, &["-o", &rig]].concat(),
+        &["overwrite"],
+    );
+    assert_eq!(std::fs::read_to_string(&rig).unwrap(), rig_text);
 }
 
 #[test]

@@ -118,6 +118,7 @@ fn in_between_rig() -> Graph {
         Value::Vec3Array(Arc::new(vec![DVec3::new(0.0, 0.0, -1.0)])),
     );
     set(&mut g, "bs.envelope", Value::Float(0.8));
+    set(&mut g, "bs.supportNegativeWeights", Value::Bool(true));
     // Weight 0 sweeps −0.2 → 1.4 (both extrapolations and every segment); weight 1 0 → 1.
     keys(&mut g, "w0", "animCurveTU", &[1.0, 12.0], &[-0.2, 1.4]);
     keys(&mut g, "w1", "animCurveTU", &[1.0, 12.0], &[0.0, 1.0]);
@@ -159,6 +160,19 @@ fn tangent_space_targets_are_named_in_a_warning() {
         warnings
             .iter()
             .any(|w| w.contains("bs: glTF cannot express tangent-space targets") && w.contains("target 1")),
+        "{warnings:?}"
+    );
+}
+
+#[test]
+fn transform_space_targets_are_named_in_a_warning() {
+    let mut g = in_between_rig();
+    set(&mut g, "bs.postDeformersMode[1]", Value::Enum(2));
+    let (_, warnings) = bake(&mut g, &options(false)).unwrap();
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains("bs: glTF cannot express transform-space targets") && w.contains("target 1")),
         "{warnings:?}"
     );
 }

@@ -6,6 +6,7 @@ use std::path::PathBuf;
 
 mod bake_morphs;
 mod bvh;
+mod corrective;
 mod gltf_read;
 mod gltf_write;
 mod precision;

@@ -8,6 +8,10 @@
 //! - `weight[i]` (float, keyable): weight of target `i` (drive it with a driven key
 //!   (`animCurveUU`) or a `poseReader` for correctives).
 //! - `envelope` (float, 1): scales every delta; non-finite counts as 0.
+//! - `supportNegativeWeights` (bool, off; Maya's `snw`): off, a weight below 0 counts as 0
+//!   (Maya: "When off, the minimum weight value is 0 and negative values are not
+//!   supported. This option is off by default."); on, negative weights extrapolate the
+//!   target (and reach in-betweens placed at negative weights).
 //! - `targetIndices[i]` (int array) and `targetDeltas[i]` (vec3 array): target `i`'s sparse
 //!   offsets from the base, reached at weight 1 (parallel lists: `targetDeltas[i][k]` moves
 //!   vertex `targetIndices[i][k]`).
@@ -21,25 +25,31 @@
 //!   `inputTarget[0].inputTargetGroup[i].postDeformersMode`): `tangentSpace` stores target
 //!   `i`'s deltas in the tangent frames of `originalGeometry` (mesh: the rest mesh) and
 //!   applies them in the frames of `inputGeometry` (see [`super::blend_shape_tangent`]); put
-//!   such a blendShape after the skinCluster. `transformSpace` is an error (not implemented).
+//!   such a blendShape after the skinCluster. `transformSpace` reads target `i`'s deltas in
+//!   the space of `targetMatrix[i]` (see [`super::blend_shape_transform`]).
+//! - `targetMatrix[i]` (matrix, identity; Maya's `inputTargetGroup[i].targetMatrix`): the
+//!   transform (e.g. a joint's `worldMatrix`) a `transformSpace` target follows; its linear
+//!   part turns the target's deltas. Ignored for other modes.
 //!
 //! Outputs: `outputGeometry` (mesh; normals are passed through from the input: a skinCluster
 //! downstream skins them) and `targetCache` (object: the parsed `Vec<Target>`).
 //!
 //! Compute groups: every target attribute feeds `targetCache` (parsed once into the kernel's
-//! [`Target`] structs); `outputGeometry` reads `inputGeometry`, `weight`, `envelope` and the
-//! cache, so animating weights costs only the sparse delta sums, without allocation in
+//! [`Target`] structs); `outputGeometry` reads `inputGeometry`, `weight`, `envelope`,
+//! `supportNegativeWeights`, `targetMatrix` and the cache, so animating weights (or a
+//! transform-space target's matrix) costs only the sparse delta sums, without allocation in
 //! compiled mode (the `f32` weights go through the per-thread scratch of
 //! [`super::skin_cluster::with_scratch`]).
 //!
 //! Errors: `targetIndices`/`targetDeltas` (or in-between lists) of different lengths, a
-//! negative vertex index, or an in-between naming a negative target. Indices beyond the
+//! negative vertex index, an in-between naming a negative target, or a non-finite
+//! `targetMatrix` reaching a transform-space target through a connection. Indices beyond the
 //! mesh, and unusable in-between weights (0, 1, non-finite, repeated), are skipped as the
 //! kernel documents.
 
 use std::sync::Arc;
 
-use glam::{DVec3, Vec3};
+use glam::{DMat4, DVec3, Vec3};
 use sinew_core::{
     ComputeContext, ComputeError, Input, Mesh, MultiInput, NodeSpec, NodeType, ObjectRef, Output, Problem, SpecError,
     ValidateInputs,
@@ -47,6 +57,7 @@ use sinew_core::{
 
 use super::blend_shape::{apply, InBetween, SparseDelta, Target};
 use super::blend_shape_tangent::{TangentTargets, POST_DEFORMERS_MODES};
+use super::blend_shape_transform::TransformTargets;
 use super::mesh_nodes::copy_topology;
 use super::skin_cluster::with_scratch;
 
@@ -60,6 +71,8 @@ pub struct BlendShapeCache {
     pub targets: Vec<Target>,
     /// The tangent-space targets (emptied in `targets`), when there are any.
     pub tangent: Option<TangentTargets>,
+    /// The transform-space targets (emptied in `targets`), when there are any.
+    pub transform: Option<TransformTargets>,
 }
 
 /// The `blendShape` node (see the module docs).
@@ -68,6 +81,7 @@ pub struct BlendShape {
     input: Input<Arc<Mesh>>,
     weight: MultiInput<f64>,
     envelope: Input<f64>,
+    negative: Input<bool>,
     indices: MultiInput<Arc<Vec<i64>>>,
     deltas: MultiInput<Arc<Vec<DVec3>>>,
     weight_map: MultiInput<Arc<Vec<f64>>>,
@@ -76,6 +90,7 @@ pub struct BlendShape {
     ib_indices: MultiInput<Arc<Vec<i64>>>,
     ib_deltas: MultiInput<Arc<Vec<DVec3>>>,
     post_mode: MultiInput<i64>,
+    target_matrix: MultiInput<DMat4>,
     rest: Input<Arc<Mesh>>,
     output: Output<Arc<Mesh>>,
     cache: Output<ObjectRef>,
@@ -118,11 +133,13 @@ impl BlendShape {
             ("weight", "w"),
             ("envelope", "en"),
             ("outputGeometry", "og"),
+            ("supportNegativeWeights", "snw"),
         ]);
         s.doc("adds weighted sparse target deltas (with in-betweens and weight maps) to inputGeometry");
         let input = s.input("inputGeometry", Arc::new(Mesh::default()));
         let weight = s.multi_input("weight", 0.0);
         let envelope = s.input("envelope", 1.0);
+        let negative = s.input("supportNegativeWeights", false);
         let indices = s.multi_input("targetIndices", Arc::new(Vec::<i64>::new()));
         let deltas = s.multi_input("targetDeltas", Arc::new(Vec::<DVec3>::new()));
         let weight_map = s.multi_input("targetWeightMap", Arc::new(Vec::<f64>::new()));
@@ -131,12 +148,14 @@ impl BlendShape {
         let ib_indices = s.multi_input("inbetweenIndices", Arc::new(Vec::<i64>::new()));
         let ib_deltas = s.multi_input("inbetweenDeltas", Arc::new(Vec::<DVec3>::new()));
         let post_mode = s.multi_input_enum("postDeformersMode", &POST_DEFORMERS_MODES, 0);
+        let target_matrix = s.multi_input("targetMatrix", DMat4::IDENTITY);
         let rest = s.input("originalGeometry", Arc::new(Mesh::default()));
         let output = s.output("outputGeometry", Arc::new(Mesh::default()));
         let cache = s.output("targetCache", ObjectRef::default());
         s.attr_doc(input, "base mesh")
             .attr_doc(weight, "weight of target i")
             .attr_doc(envelope, "scales all deltas")
+            .attr_doc(negative, "off: weights below 0 count as 0 (Maya's default)")
             .attr_doc(indices, "vertex indices of target i's deltas")
             .attr_doc(deltas, "offsets of target i at weight 1")
             .attr_doc(weight_map, "per-vertex multiplier of target i (empty = 1)")
@@ -146,7 +165,11 @@ impl BlendShape {
             .attr_doc(ib_deltas, "offsets of in-between j from the base")
             .attr_doc(
                 post_mode,
-                "tangentSpace: target i's deltas follow the input's tangent frames",
+                "tangentSpace: target i's deltas follow the input's tangent frames; transformSpace: targetMatrix[i]",
+            )
+            .attr_doc(
+                target_matrix,
+                "transformSpace target i's deltas are in this matrix's space",
             )
             .attr_doc(rest, "the rest mesh tangent-space targets are authored on")
             .attr_doc(output, "the deformed mesh")
@@ -154,6 +177,7 @@ impl BlendShape {
         s.keyable(ib_target, false)
             .keyable(ib_weight, false)
             .keyable(post_mode, false)
+            .keyable(negative, false)
             .keyable(rest, false);
         s.affects(
             &[
@@ -169,12 +193,23 @@ impl BlendShape {
             ],
             &[cache.id()],
         );
-        s.affects(&[input.id(), weight.id(), envelope.id(), cache.id()], &[output.id()]);
+        s.affects(
+            &[
+                input.id(),
+                weight.id(),
+                envelope.id(),
+                negative.id(),
+                target_matrix.id(),
+                cache.id(),
+            ],
+            &[output.id()],
+        );
         Ok(BlendShape {
             spec: s.build()?,
             input,
             weight,
             envelope,
+            negative,
             indices,
             deltas,
             weight_map,
@@ -183,6 +218,7 @@ impl BlendShape {
             ib_indices,
             ib_deltas,
             post_mode,
+            target_matrix,
             rest,
             output,
             cache,
@@ -244,9 +280,17 @@ impl BlendShape {
         let modes: Vec<(u32, i64)> = (0..ctx.multi_len(self.post_mode))
             .filter_map(|k| ctx.multi_at(self.post_mode, k))
             .collect();
+        let transform = TransformTargets::split(&mut targets, &modes);
         let rest = ctx.get(self.rest);
         let tangent = TangentTargets::split(&mut targets, &modes, &rest)?;
-        ctx.set(self.cache, ObjectRef::new(BlendShapeCache { targets, tangent }));
+        ctx.set(
+            self.cache,
+            ObjectRef::new(BlendShapeCache {
+                targets,
+                tangent,
+                transform,
+            }),
+        );
         Ok(())
     }
 
@@ -261,20 +305,25 @@ impl BlendShape {
         let envelope = Some(ctx.get(self.envelope)).filter(|e| e.is_finite()).unwrap_or(0.0) as f32;
         let n_targets = cache.targets.len();
         let nw = ctx.multi_len(self.weight);
-        let active = (0..nw).any(|k| {
-            ctx.multi_at(self.weight, k)
-                .is_some_and(|(i, x)| (i as usize) < n_targets && x != 0.0 && x.is_finite())
-        });
+        // Maya's supportNegativeWeights off: the minimum weight is 0.
+        let floor = if ctx.get(self.negative) { f64::NEG_INFINITY } else { 0.0 };
+        let weight_at =
+            |ctx: &ComputeContext<'_>, k: usize| ctx.multi_at(self.weight, k).map(|(i, x)| (i, x.max(floor)));
+        let active = (0..nw)
+            .any(|k| weight_at(ctx, k).is_some_and(|(i, x)| (i as usize) < n_targets && x != 0.0 && x.is_finite()));
         if envelope == 0.0 || !active {
             ctx.set(self.output, mesh);
             return Ok(());
+        }
+        if let Some(t) = &cache.transform {
+            t.prepare(|i| ctx.get_at(self.target_matrix, i))?;
         }
         with_scratch(|scratch| {
             let w = &mut scratch.floats;
             w.clear();
             w.resize(n_targets, 0.0);
             for k in 0..nw {
-                if let Some((i, x)) = ctx.multi_at(self.weight, k) {
+                if let Some((i, x)) = weight_at(ctx, k) {
                     if let Some(slot) = w.get_mut(i as usize) {
                         *slot = x as f32;
                     }
@@ -290,8 +339,11 @@ impl BlendShape {
             out.positions.resize(mesh.positions.len(), Vec3::ZERO);
             apply(&mesh.positions, &cache.targets, w, envelope, &mut out.positions)
                 .map_err(|e| ComputeError::new(format!("blendShape: {e}")))?;
-            match &cache.tangent {
-                Some(t) => t.add(&mesh, w, envelope, &mut out.positions),
+            if let Some(t) = &cache.tangent {
+                t.add(&mesh, w, envelope, &mut out.positions)?;
+            }
+            match &cache.transform {
+                Some(t) => t.add(w, envelope, &mut out.positions),
                 None => Ok(()),
             }
         })

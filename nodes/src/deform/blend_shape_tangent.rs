@@ -68,13 +68,9 @@ pub fn vertex_frame(positions: &[Vec3], normals: &[Vec3], neighbour: u32, v: usi
 impl TangentTargets {
     /// Moves the targets whose mode is tangent space (`modes[i] == 1`) out of `targets`
     /// (leaving empty ones), their deltas converted to the frames of `rest`. `None` when no
-    /// target is in tangent space. Errors name the attribute and the fix.
+    /// target is in tangent space. Errors name the attribute and the fix. Transform-space
+    /// targets (mode 2) are left alone (see [`super::blend_shape_transform`]).
     pub fn split(targets: &mut [Target], modes: &[(u32, i64)], rest: &Mesh) -> Result<Option<Self>, ComputeError> {
-        if let Some((i, _)) = modes.iter().find(|(_, m)| *m == 2) {
-            return Err(ComputeError::new(format!(
-                "blendShape.postDeformersMode[{i}] is transformSpace, which sinew does not implement; use off or tangentSpace"
-            )));
-        }
         let tangent: Vec<usize> = modes
             .iter()
             .filter(|(i, m)| *m == 1 && (*i as usize) < targets.len())

@@ -27,6 +27,7 @@
 //! | [`skin_cluster`] | `skinCluster` (palette output for engines, precomputed weights) |
 //! | [`blend_shape_node`] | `blendShape` (sparse targets, in-betweens, weight maps) |
 //! | [`blend_shape_tangent`] | tangent-space blendShape targets (`postDeformersMode`) |
+//! | [`blend_shape_transform`] | transform-space blendShape targets (`targetMatrix`) |
 //! | [`pose_reader_node`] | `poseReader` (drives correctives) |
 //! | [`follicle`] | `follicle`, `closestPointOnMesh` |
 //! | [`bind`] | `bind_skin`, `smooth_bind`, `create_closest_follicle` |
@@ -40,6 +41,7 @@ pub mod bind;
 pub mod blend_shape;
 pub mod blend_shape_node;
 pub mod blend_shape_tangent;
+pub mod blend_shape_transform;
 pub mod bvh;
 pub mod closest_point;
 pub mod dual_quat;
@@ -59,6 +61,8 @@ pub mod weights;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_blend_shape_options;
 #[cfg(test)]
 mod tests_chain;
 #[cfg(test)]

@@ -371,6 +371,8 @@ fn blend_shape_is_linear_in_its_weights() {
     set(&mut g, "bs.targetDeltas[0]", Arc::new(vec![DVec3::Y, DVec3::X]));
     set(&mut g, "bs.targetIndices[1]", Arc::new(vec![2i64]));
     set(&mut g, "bs.targetDeltas[1]", Arc::new(vec![DVec3::Z]));
+    // Negative weights extrapolate only with supportNegativeWeights on (Maya's default is off).
+    set(&mut g, "bs.supportNegativeWeights", true);
     for (w0, w1) in [(0.3, 0.7), (1.0, 0.0), (2.0, -0.5)] {
         set(&mut g, "bs.weight[0]", w0);
         set(&mut g, "bs.weight[1]", w1);

@@ -139,6 +139,11 @@ const BLEND_SHAPE: Table = &[
     ("attributeAliasList", "aal", N),
     ("topologyCheck", "tc", N),
     ("supportNegativeWeights", "snw", N),
+    ("offsetX", "ofx", L),
+    ("offsetY", "ofy", L),
+    ("offsetZ", "ofz", L),
+    ("targetMatrix", "tmx", N),
+    ("targetBindMatrix", "bmx", N),
     ("midLayerId", "mlid", N),
     ("midLayerParent", "mlpr", N),
 ];

@@ -12,7 +12,15 @@
 //! Weights: `weight[t]` (set or connected, same index in sinew). Painted maps:
 //! `inputTarget[0].baseWeights[v]` (the deformer's) times
 //! `inputTarget[0].inputTargetGroup[t].targetWeights[v]` is sinew's `targetWeightMap[t]`.
+//! `supportNegativeWeights` (`snw`, off by default as on Maya's node) is copied.
 //! Relative targets (`inputRelativePointsTarget`) are not imported.
+//!
+//! Warned about, not imported: post-deformation targets (`postDeformersMode` 1 tangent
+//! space, 2 transform space: Maya's pages do not say in which frame their stored deltas are
+//! kept, so they come in as object-space targets); `origin` world or user with live targets
+//! (their deltas are computed in object space, Maya's *local* origin; stored deltas are used
+//! as stored); a non-zero `offsetDeformer` (`offsetX/Y/Z`: Maya's node reference lists it
+//! without saying what it does).
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -155,7 +163,17 @@ pub fn map_blend_shape(
                         "transform-space"
                     };
                     let msg = format!(
-                        "{name}: target {t} is a {kind} post-deformation target (postDeformersMode {mode}); it is imported as an object-space target and will not follow the deformers after it"
+                        "{name}: target {t} is a {kind} post-deformation target (postDeformersMode {mode}); Maya's node reference does not say in which frame such stored deltas are kept, so it is imported as an object-space target and will not follow the deformers after it"
+                    );
+                    imp.warn(a.at, msg);
+                }
+            }
+            [.., off] if matches!(off.name.as_str(), "offsetX" | "offsetY" | "offsetZ") => {
+                let x = v.num(0).map_err(fail)?;
+                if x != 0.0 {
+                    let msg = format!(
+                        "{name}: offsetDeformer.{} is set; Maya's node reference lists offsetDeformer without saying what it does, so it is not imported",
+                        off.name
                     );
                     imp.warn(a.at, msg);
                 }
@@ -178,6 +196,16 @@ pub fn map_blend_shape(
             items.entry((t, x)).or_default().mesh = Some(src);
             imp.consume(c);
         }
+    }
+    // Maya's origin (0 world, 1 local (the default), 2 user) is the space live targets'
+    // deltas are calculated in; sinew computes them in object space.
+    let origin = imp.number(d, "origin").unwrap_or(1.0);
+    if origin != 1.0 && items.values().any(|i| i.mesh.is_some()) {
+        let which = if origin == 0.0 { "world" } else { "user" };
+        let msg = format!(
+            "{name}: origin is {which} ({origin}); its live targets' deltas are computed in object space (Maya's local origin), so differences between the target's and the base's transforms (or baseOrigin/targetOrigin) are ignored"
+        );
+        imp.warn(at, msg);
     }
     let mut inbetween = 0u32;
     let targets: Vec<u32> = {
@@ -228,6 +256,9 @@ pub fn map_blend_shape(
     }
     if let Some(e) = imp.number(d, "envelope") {
         imp.acc.set(&name, "envelope", Value::Float(e));
+    }
+    if let Some(x) = imp.number(d, "supportNegativeWeights") {
+        imp.acc.set(&name, "supportNegativeWeights", Value::Bool(x != 0.0));
     }
     Ok(format!("{name}.outputGeometry"))
 }

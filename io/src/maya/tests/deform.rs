@@ -348,3 +348,56 @@ fn post_deformation_targets_are_warned() {
     let plain = import_scene("blendShapesExport.ma").unwrap();
     assert!(!plain.report.warnings.iter().any(|w| w.contains("postDeformersMode")));
 }
+
+/// blendShape10 of blendShapesExport.ma with `supportNegativeWeights`, a world `origin` and
+/// an `offsetDeformer` value added: the switch is copied to sinew's node (off in the
+/// unedited file, Maya's default), the other two are warned about at their lines.
+#[test]
+fn negative_weights_are_copied_and_origin_and_offset_are_warned() {
+    let Some(path) = super::assets::scene("blendShapesExport.ma") else {
+        return;
+    };
+    let Ok(text) = std::fs::read_to_string(&path) else {
+        eprintln!("skipped: {} is absent", path.display());
+        return;
+    };
+    let anchor = "createNode blendShape -n \"blendShape10\";";
+    let at = text.find(anchor).expect("blendShape10 in the scene") + anchor.len();
+    let line = text[..at].lines().count();
+    let added = "\n\tsetAttr \".snw\" yes;\n\tsetAttr \".or\" 0;\n\tsetAttr \".ofx\" 0.5;";
+    let edited = format!("{}{added}{}", &text[..at], &text[at..]);
+    let imp = crate::maya::import_maya(
+        &edited,
+        "edited.ma",
+        &registry(),
+        &crate::maya::MayaImportOptions::default(),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let mut g = imp.rig.to_graph(&registry()).unwrap();
+    assert!(matches!(
+        g.get_path("blendShape10.supportNegativeWeights"),
+        Ok(Value::Bool(true))
+    ));
+    let find = |s: &str| imp.report.warnings.iter().filter(|w| w.contains(s)).collect::<Vec<_>>();
+    let origin = find("origin is world");
+    assert_eq!(origin.len(), 1, "{:?}", imp.report.warnings);
+    assert!(origin[0].starts_with(&format!("edited.ma:{line}:")), "{}", origin[0]);
+    let offset = find("offsetDeformer.offsetX");
+    assert_eq!(offset.len(), 1, "{:?}", imp.report.warnings);
+    assert!(
+        offset[0].starts_with(&format!("edited.ma:{}:", line + 3)),
+        "{}",
+        offset[0]
+    );
+    let plain = import_scene("blendShapesExport.ma").unwrap();
+    let mut g = plain.rig.to_graph(&registry()).unwrap();
+    assert!(matches!(
+        g.get_path("blendShape10.supportNegativeWeights"),
+        Ok(Value::Bool(false))
+    ));
+    assert!(!plain
+        .report
+        .warnings
+        .iter()
+        .any(|w| w.contains("origin is") || w.contains("offsetDeformer")));
+}
