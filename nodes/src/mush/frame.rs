@@ -329,11 +329,11 @@ mod tests {
             })
             .collect();
         let n = input.len();
-        for pin in [true, false] {
-            let bind = MushBind::new(&rest, 7, 0.5, pin);
+        for (pin, it) in [(true, 7), (false, 7), (true, 0), (false, 1)] {
+            let bind = MushBind::new(&rest, it, 0.5, pin);
             assert_eq!(bind.blocks[0].nbr[0][0] == 0, pin);
             let (mut s, mut tmp) = (Vec::new(), Vec::new());
-            bind.smoother.smooth(&input, 7, 0.5, &mut s, &mut tmp);
+            bind.smoother.smooth(&input, it, 0.5, &mut s, &mut tmp);
             for (k, envelope) in [([1.0; 3], 1.0), ([0.5, 1.5, -2.0], 0.35)] {
                 let want: Vec<Vec3> = (0..n)
                     .map(|v| {
@@ -348,17 +348,25 @@ mod tests {
                     .collect();
                 let mut whole = vec![Vec3::NAN; n];
                 map_range(&bind.blocks, &s, &input, &mut whole, 0..n, k, envelope);
-                assert_eq!(bits(&whole), bits(&want), "pin {pin} envelope {envelope}");
+                assert_eq!(
+                    bits(&whole),
+                    bits(&want),
+                    "pin {pin} iterations {it} envelope {envelope}"
+                );
                 let (mut a, mut b) = (Vec::new(), Vec::new());
                 let mut streamed = vec![Vec3::NAN; n];
                 let mut next = 0;
-                bind.smoother.smooth_streamed(&input, 7, 0.5, &mut a, &mut b, |sm, r| {
+                bind.smoother.smooth_streamed(&input, it, 0.5, &mut a, &mut b, |sm, r| {
                     assert_eq!(r.start, next, "ranges in order");
                     next = r.end;
                     map_range(&bind.blocks, sm, &input, &mut streamed, r, k, envelope)
                 });
                 assert_eq!(next, n);
-                assert_eq!(bits(&streamed), bits(&want), "pin {pin} envelope {envelope}");
+                assert_eq!(
+                    bits(&streamed),
+                    bits(&want),
+                    "pin {pin} iterations {it} envelope {envelope}"
+                );
             }
         }
     }

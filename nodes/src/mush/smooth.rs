@@ -570,12 +570,23 @@ mod tests {
                     let (mut out, mut tmp) = (Vec::new(), Vec::new());
                     s.smooth(&p, iterations, 0.5, &mut out, &mut tmp);
                     let want = passes(&s, &p, iterations, 0.5);
+                    let same = |a: &Vec3A, b: &Vec3A| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits);
                     assert!(
-                        out.iter()
-                            .zip(&want)
-                            .all(|(a, b)| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits)),
+                        out.iter().zip(&want).all(|(a, b)| same(a, b)),
                         "shuffle {shuffle} pin {pin} iterations {iterations}"
                     );
+                    // Streamed: ranges in order, covering every vertex, each handed over when
+                    // its points and its neighbours' are final.
+                    let mut next = 0;
+                    s.smooth_streamed(&p, iterations, 0.5, &mut out, &mut tmp, |sm, r| {
+                        assert_eq!(r.start, next);
+                        next = r.end;
+                        for v in r {
+                            assert!(same(&sm[v], &want[v]), "vertex {v}");
+                            assert!(s.adj.of(v).iter().all(|&u| same(&sm[u as usize], &want[u as usize])));
+                        }
+                    });
+                    assert_eq!(next, n);
                 }
             }
         }
