@@ -35,6 +35,12 @@ pub mod validate;
 pub mod value;
 pub mod value_file;
 
+/// A hash map with a fast, randomly seeded hasher (foldhash) for maps filled once per node
+/// or connection while loading and compiling.
+pub(crate) type FastMap<K, V> = std::collections::HashMap<K, V, foldhash::fast::RandomState>;
+/// The set of [`FastMap`].
+pub(crate) type FastSet<K> = std::collections::HashSet<K, foldhash::fast::RandomState>;
+
 pub use custom::{CustomAffects, CustomNode};
 pub use data::{Curve, CurveForm, Mesh, Surface, Weights};
 pub use error::{ComputeError, Error, InputError, Result, SpecError};

@@ -12,7 +12,6 @@
 //! bit-identical. The compiler itself is in `program_compile.rs`, instances in
 //! `instance.rs`.
 
-use std::collections::HashMap;
 use std::sync::Arc;
 
 pub use crate::instance::{evaluate_batch, Instance};
@@ -291,7 +290,7 @@ pub struct Program {
     /// Output slots whose step was pruned (see [`CompileOptions::observed`]).
     pub(crate) pruned_slot: Vec<bool>,
     pub(crate) nodes: Vec<NodeEntry>,
-    pub(crate) node_index: HashMap<String, u32>,
+    pub(crate) node_index: crate::FastMap<String, u32>,
 }
 
 impl std::fmt::Debug for Program {

@@ -304,7 +304,7 @@ fn decode_payload(payload: &[u8], registry: &Registry) -> Result<Program> {
     // Nodes.
     let n = r.count(3, "nodes")?;
     let mut nodes = Vec::with_capacity(n);
-    let mut node_index = HashMap::with_capacity(n);
+    let mut node_index = crate::FastMap::with_capacity_and_hasher(n, Default::default());
     for i in 0..n {
         let name = r.str("node name")?;
         let t = r.u32v("node type index")? as usize;

@@ -54,6 +54,45 @@ impl Class {
     }
 }
 
+/// Slots being filled class by class (see [`Slots::builder`]).
+pub(crate) struct SlotsBuilder {
+    slots: Slots,
+    /// The id the next value of each class gets.
+    next: [u32; 6],
+    len: usize,
+}
+
+impl SlotsBuilder {
+    /// Stores `v` in the next slot of its class and returns that slot's id. At most the
+    /// count given to [`Slots::builder`] per class.
+    pub(crate) fn push(&mut self, v: Value) -> u32 {
+        let c = Class::of(&v);
+        let id = self.next[c as usize];
+        self.next[c as usize] += 1;
+        let s = &mut self.slots;
+        match v {
+            Value::Float(x) => s.floats.push(x),
+            Value::Vec3(x) => s.vec3s.push(x),
+            Value::Matrix(x) => s.mats.push(x),
+            Value::Bool(x) => s.bools.push(x),
+            Value::Enum(x) => s.enums.push(x),
+            v => s.values.push(v),
+        }
+        id
+    }
+
+    /// Number of slots (the sum of the counts).
+    pub(crate) fn len(&self) -> usize {
+        self.len
+    }
+
+    /// The slots (every class filled to its count).
+    pub(crate) fn finish(self) -> Slots {
+        debug_assert!(self.next[..5].iter().zip(self.slots.base).all(|(&n, b)| n == b));
+        self.slots
+    }
+}
+
 /// An instance's slot values (see the module documentation).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Slots {
@@ -106,6 +145,26 @@ impl Slots {
             out.base[k] = len;
         }
         out
+    }
+
+    /// Storage for `counts[c]` slots of each class `c` (indexed by `Class as usize`), filled
+    /// by [`SlotsBuilder::push`]: slot ids are given class by class, so every value of a
+    /// dense class lands in its dense array, never as a `Value`.
+    pub(crate) fn builder(counts: [u32; 6]) -> SlotsBuilder {
+        let mut next = [0u32; 6];
+        for c in 1..6 {
+            next[c] = next[c - 1] + counts[c - 1];
+        }
+        let mut slots = Slots::default();
+        slots.base.copy_from_slice(&next[1..]);
+        slots.floats.reserve_exact(counts[0] as usize);
+        slots.vec3s.reserve_exact(counts[1] as usize);
+        slots.mats.reserve_exact(counts[2] as usize);
+        slots.bools.reserve_exact(counts[3] as usize);
+        slots.enums.reserve_exact(counts[4] as usize);
+        slots.values.reserve_exact(counts[5] as usize);
+        let len = counts.iter().map(|&c| c as usize).sum();
+        SlotsBuilder { slots, next, len }
     }
 
     /// The class of the value in slot `s` (of its array, or of the `Value` stored there).

@@ -127,7 +127,7 @@ fn dynamic_nodes(graph: &Graph) -> HashSet<NodeId> {
     while let Some(n) = todo.pop() {
         let Some(data) = graph.nodes.get(n) else { continue };
         for e in data.attrs.iter().flat_map(|a| &a.elems) {
-            for d in &e.dests {
+            for d in e.dests() {
                 if seen.insert(d.node) {
                     todo.push(d.node);
                 }

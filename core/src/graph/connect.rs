@@ -69,10 +69,10 @@ impl Graph {
         let data = self.nodes.get(dst.node)?;
         let store = &data.attrs[dst.attr.index()];
         let e = &store.elems[store.find(dst.elem())?];
-        if let Some(s) = e.source {
+        if let Some(s) = e.source() {
             return Some(s);
         }
-        let cs = e.comp_sources.as_ref()?;
+        let cs = e.comp_sources()?;
         match dst.component {
             Some(k) => cs[k as usize],
             None => cs.iter().flatten().next().copied(),
@@ -108,7 +108,7 @@ impl Graph {
             .find(src.elem())
             .unwrap_or(0);
         if let Some(e) = self.nodes[src.node].attrs[src.attr.index()].elems.get_mut(k) {
-            e.dests.push(dst);
+            e.links_mut().dests.push(dst);
         }
         let dst_data = &mut self.nodes[dst.node];
         let default = dst_data.spec().attr(dst.attr).default.clone();
@@ -116,9 +116,9 @@ impl Graph {
         let (k, _) = store.ensure(dst.elem(), || default);
         let e = &mut store.elems[k];
         match dst.component {
-            None => e.source = Some(src),
+            None => e.links_mut().source = Some(src),
             Some(c) => {
-                e.comp_sources.get_or_insert_with(|| Box::new([None; 3]))[c as usize] = Some(src);
+                e.links_mut().comp_sources.get_or_insert([None; 3])[c as usize] = Some(src);
             }
         }
         e.changed_at = rev;
@@ -138,8 +138,8 @@ impl Graph {
             .and_then(|n| n.attrs.get(dst.attr.index()))
             .and_then(|s| s.find(dst.elem()).map(|k| &s.elems[k]))
             .is_some_and(|e| match dst.component {
-                None => e.source == Some(src),
-                Some(c) => e.comp_sources.as_ref().is_some_and(|cs| cs[c as usize] == Some(src)),
+                None => e.source() == Some(src),
+                Some(c) => e.comp_sources().is_some_and(|cs| cs[c as usize] == Some(src)),
             });
         if !connected {
             return Err(Error::NotConnected {
@@ -165,8 +165,10 @@ impl Graph {
         if let Some(s) = self.nodes.get_mut(src.node) {
             let store = &mut s.attrs[src.attr.index()];
             if let Some(k) = store.find(src.elem()) {
-                if let Some(pos) = store.elems[k].dests.iter().position(|d| *d == dst) {
-                    store.elems[k].dests.remove(pos);
+                if let Some(links) = store.elems[k].links_if_any() {
+                    if let Some(pos) = links.dests.iter().position(|d| *d == dst) {
+                        links.dests.remove(pos);
+                    }
                 }
             }
         }
@@ -177,17 +179,21 @@ impl Graph {
                 let e = &mut store.elems[k];
                 match dst.component {
                     None => {
-                        if e.source.map(Plug::whole) == Some(src.whole()) {
-                            e.source = None;
+                        if let Some(links) = e.links_if_any() {
+                            if links.source.map(Plug::whole) == Some(src.whole()) {
+                                links.source = None;
+                            }
                         }
                     }
                     Some(c) => {
-                        if let Some(cs) = &mut e.comp_sources {
-                            if cs[c as usize].map(Plug::whole) == Some(src.whole()) {
-                                cs[c as usize] = None;
-                            }
-                            if cs.iter().all(|s| s.is_none()) {
-                                e.comp_sources = None;
+                        if let Some(links) = e.links_if_any() {
+                            if let Some(cs) = &mut links.comp_sources {
+                                if cs[c as usize].map(Plug::whole) == Some(src.whole()) {
+                                    cs[c as usize] = None;
+                                }
+                                if cs.iter().all(|s| s.is_none()) {
+                                    links.comp_sources = None;
+                                }
                             }
                         }
                     }
@@ -211,11 +217,11 @@ impl Graph {
         let store = self.nodes.get(dst.node)?.attrs.get(dst.attr.index())?;
         let e = &store.elems[store.find(dst.elem())?];
         match dst.component {
-            None => e.source,
+            None => e.source(),
             Some(c) => e
-                .source
+                .source()
                 .map(|s| s.component(c))
-                .or_else(|| e.comp_sources.as_ref().and_then(|cs| cs[c as usize])),
+                .or_else(|| e.comp_sources().and_then(|cs| cs[c as usize])),
         }
     }
 
@@ -230,10 +236,10 @@ impl Graph {
                 let multi = spec.attrs[a].multi;
                 for e in &store.elems {
                     let dst = Plug::element(id, AttrId(a as u16), multi, e.index);
-                    if let Some(s) = e.source {
+                    if let Some(s) = e.source() {
                         out.push((s, dst));
                     }
-                    if let Some(cs) = &e.comp_sources {
+                    if let Some(cs) = e.comp_sources() {
                         for (k, s) in cs.iter().enumerate() {
                             if let Some(s) = s {
                                 out.push((*s, dst.component(k as u8)));
@@ -250,7 +256,7 @@ impl Graph {
     pub fn connection_count(&self) -> usize {
         let elems = self.nodes.values().flat_map(|n| n.attrs.iter().flat_map(|a| &a.elems));
         elems
-            .map(|e| e.source.is_some() as usize + e.comp_sources.as_ref().map_or(0, |cs| cs.iter().flatten().count()))
+            .map(|e| e.source().is_some() as usize + e.comp_sources().map_or(0, |cs| cs.iter().flatten().count()))
             .sum()
     }
 
@@ -270,7 +276,7 @@ impl Graph {
                 parent: parent_label,
                 reason: format!(
                     "type {} has no DAG hookup (only transform-like nodes can be parented)",
-                    cd.type_name
+                    cd.type_name()
                 ),
             });
         };
@@ -310,7 +316,7 @@ impl Graph {
         };
         let pkind = pd.kind.clone();
         let Some(pdag) = pkind.spec().dag.as_ref() else {
-            return Err(bad(format!("type {} has no DAG hookup", pd.type_name)));
+            return Err(bad(format!("type {} has no DAG hookup", pd.type_name())));
         };
         if self.is_dag_ancestor(child, parent) {
             return Err(bad("the parent is the child itself or one of its descendants".into()));
@@ -320,7 +326,7 @@ impl Graph {
             Plug::new(child, cdag.parent_matrix),
         )];
         for link in &cdag.links {
-            if link.parent_type.as_ref().is_some_and(|t| *t != pd.type_name) {
+            if link.parent_type.as_ref().is_some_and(|t| t != pd.type_name()) {
                 continue;
             }
             let Some((src_attr, None)) = pd.spec().find(&link.parent_attr) else {
@@ -421,7 +427,7 @@ impl Graph {
                         values.push(None);
                         continue;
                     };
-                    match (e.source, &e.comp_sources, &e.value) {
+                    match (e.source(), e.comp_sources(), &e.value) {
                         (Some(s), _, _) => {
                             tasks.push(Task::Take(p.component));
                             tasks.push(Task::Read(s));

@@ -90,7 +90,7 @@ impl Graph {
             Some((id, _)) if !spec.is_custom(id) => {
                 return Err(bad(format!(
                     "it is an attribute of node type {}; only custom attributes can be removed",
-                    data.type_name
+                    data.type_name()
                 )))
             }
             _ => return Err(bad("the node has no custom attribute of that name".into())),
@@ -123,11 +123,13 @@ impl Graph {
                             p.attr.0 -= 1;
                         }
                     };
-                    e.source.iter_mut().for_each(fix);
-                    if let Some(cs) = &mut e.comp_sources {
-                        cs.iter_mut().flatten().for_each(fix);
+                    if let Some(links) = e.links_if_any() {
+                        links.source.iter_mut().for_each(fix);
+                        if let Some(cs) = &mut links.comp_sources {
+                            cs.iter_mut().flatten().for_each(fix);
+                        }
+                        links.dests.iter_mut().for_each(fix);
                     }
-                    e.dests.iter_mut().for_each(fix);
                 }
             }
         }
@@ -182,17 +184,17 @@ impl Graph {
 /// the plugs it feeds.
 pub(crate) fn elem_links(here: Plug, e: &Elem) -> Vec<(Plug, Plug)> {
     let mut links = Vec::new();
-    if let Some(s) = e.source {
+    if let Some(s) = e.source() {
         links.push((s, here));
     }
-    if let Some(cs) = &e.comp_sources {
+    if let Some(cs) = e.comp_sources() {
         for (k, s) in cs.iter().enumerate() {
             if let Some(s) = s {
                 links.push((*s, here.component(k as u8)));
             }
         }
     }
-    for d in &e.dests {
+    for d in e.dests() {
         links.push((here.whole(), *d));
     }
     links

@@ -51,7 +51,6 @@ impl Graph {
         let order = self.new_order();
         let data = NodeData {
             name: name.to_string(),
-            type_name: type_name.to_string(),
             base: kind.clone(),
             kind,
             attrs,
@@ -164,9 +163,9 @@ impl Graph {
         {
             let driver = match plug.component {
                 None if e.is_driven() => e
-                    .source
-                    .or_else(|| e.comp_sources.as_ref().and_then(|c| c.iter().flatten().next().copied())),
-                Some(k) => e.source.or_else(|| e.comp_sources.as_ref().and_then(|c| c[k as usize])),
+                    .source()
+                    .or_else(|| e.comp_sources().and_then(|c| c.iter().flatten().next().copied())),
+                Some(k) => e.source().or_else(|| e.comp_sources().and_then(|c| c[k as usize])),
                 None => None,
             };
             if let Some(src) = driver {

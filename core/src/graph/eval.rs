@@ -75,7 +75,7 @@ impl Graph {
                 },
             };
             for e in elems {
-                stack.extend(e.dests.iter().map(|d| (d.node, d.attr, Some(d.elem()))));
+                stack.extend(e.dests().iter().map(|d| (d.node, d.attr, Some(d.elem()))));
             }
         }
     }
@@ -201,10 +201,10 @@ impl Graph {
             let Some(k) = store.find(plug.elem()) else { continue };
             let e = &store.elems[k];
             // Pushed in reverse, popped in order: the whole source, then components 0..3.
-            if let Some(cs) = &e.comp_sources {
+            if let Some(cs) = e.comp_sources() {
                 stack.extend(cs.iter().rev().flatten().copied());
             }
-            stack.extend(e.source);
+            stack.extend(e.source());
         }
     }
 
@@ -267,8 +267,8 @@ impl Graph {
     /// (it is an output, or an input with no source of its own).
     fn plain_source(&self, plug: Plug) -> Option<Plug> {
         let e = self.elem_ref(plug)?;
-        let src = e.source?;
-        if src.component.is_some() || e.comp_sources.is_some() {
+        let src = e.source()?;
+        if src.component.is_some() || e.comp_sources().is_some() {
             return None;
         }
         let se = self.elem_ref(src)?;
@@ -346,7 +346,7 @@ impl Graph {
                 if let Err(e) = result {
                     return Err(Error::Compute {
                         node: data.name.clone(),
-                        node_type: data.type_name.clone(),
+                        node_type: data.type_name().to_string(),
                         message: e.message,
                     });
                 }

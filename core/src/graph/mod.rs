@@ -14,7 +14,6 @@ mod eval;
 mod order;
 pub(crate) mod store;
 
-use std::collections::HashMap;
 use std::sync::Arc;
 
 use slotmap::SlotMap;
@@ -111,7 +110,6 @@ impl Plug {
 
 pub(crate) struct NodeData {
     pub name: String,
-    pub type_name: String,
     /// The node's type: `base`, or a [`crate::CustomNode`] over it when the node has
     /// custom attributes.
     pub kind: Arc<dyn NodeType>,
@@ -127,13 +125,18 @@ impl NodeData {
     pub fn spec(&self) -> &NodeSpec {
         self.kind.spec()
     }
+
+    /// The registered type's name (the registry names each type by its spec's name).
+    pub fn type_name(&self) -> &str {
+        &self.base.spec().name
+    }
 }
 
 /// A dependency graph of nodes whose types come from a [`Registry`].
 pub struct Graph {
     registry: Arc<Registry>,
     pub(crate) nodes: SlotMap<NodeId, NodeData>,
-    names: HashMap<String, NodeId>,
+    names: crate::FastMap<String, NodeId>,
     next_order: u64,
     /// The last position given in the topological order of attributes (see `order.rs`).
     pub(crate) next_ord: u64,
@@ -168,7 +171,7 @@ impl Graph {
             dag_worlds_follow_parents,
             registry,
             nodes: SlotMap::with_key(),
-            names: HashMap::new(),
+            names: Default::default(),
             next_order: 0,
             next_ord: 0,
             time: Time::default(),
@@ -226,7 +229,7 @@ impl Graph {
 
     /// The type name of a node.
     pub fn node_type(&self, id: NodeId) -> Option<&str> {
-        self.nodes.get(id).map(|n| n.type_name.as_str())
+        self.nodes.get(id).map(|n| n.type_name())
     }
 
     /// A node's type (a [`crate::CustomNode`] over the registered one when the node has
@@ -272,7 +275,7 @@ impl Graph {
         let (attr, component) = resolve_attr(spec, parts.attr, parts.child).map_err(|e| match e {
             AttrLookupError::Unknown(n) => Error::UnknownAttribute {
                 node: data.name.clone(),
-                node_type: data.type_name.clone(),
+                node_type: data.type_name().to_string(),
                 suggestion: nearest(&n, spec.all_names()),
                 attr: n,
             },

@@ -192,7 +192,7 @@ impl Graph {
             out.extend(spec.groups()[g as usize].outputs.iter().map(|&o| (node, o)));
         }
         for e in &data.attrs[attr.index()].elems {
-            out.extend(e.dests.iter().map(|d| (d.node, d.attr)));
+            out.extend(e.dests().iter().map(|d| (d.node, d.attr)));
         }
     }
 
@@ -205,8 +205,8 @@ impl Graph {
             out.extend(spec.groups()[g as usize].inputs.iter().map(|&i| (node, i)));
         }
         for e in &data.attrs[attr.index()].elems {
-            out.extend(e.source.map(|s| (s.node, s.attr)));
-            if let Some(cs) = &e.comp_sources {
+            out.extend(e.source().map(|s| (s.node, s.attr)));
+            if let Some(cs) = e.comp_sources() {
                 out.extend(cs.iter().flatten().map(|s| (s.node, s.attr)));
             }
         }

@@ -19,10 +19,18 @@ pub(crate) struct Elem {
     pub value: Value,
     /// Revision at which `value` last changed.
     pub changed_at: u64,
+    /// The plug's connections, boxed: most plugs have none, and a graph holds one element
+    /// per attribute of every node (40 bytes less per element, 17% of a joint's storage).
+    links: Option<Box<Links>>,
+}
+
+/// The connections at one plug (see [`Elem::links_mut`]).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Links {
     /// Whole-plug source connection (inputs only).
     pub source: Option<Plug>,
     /// Per-component sources of a vec3 input (`translateX` driven alone).
-    pub comp_sources: Option<Box<[Option<Plug>; 3]>>,
+    pub comp_sources: Option<[Option<Plug>; 3]>,
     /// Plugs this plug feeds (whole or component connections from it).
     pub dests: Vec<Plug>,
 }
@@ -33,19 +41,38 @@ impl Elem {
             index,
             value,
             changed_at: 0,
-            source: None,
-            comp_sources: None,
-            dests: Vec::new(),
+            links: None,
         }
+    }
+
+    /// Whole-plug source connection (inputs only).
+    pub fn source(&self) -> Option<Plug> {
+        self.links.as_ref()?.source
+    }
+
+    /// Per-component sources of a vec3 input (`translateX` driven alone).
+    pub fn comp_sources(&self) -> Option<&[Option<Plug>; 3]> {
+        self.links.as_ref()?.comp_sources.as_ref()
+    }
+
+    /// Plugs this plug feeds (whole or component connections from it).
+    pub fn dests(&self) -> &[Plug] {
+        self.links.as_ref().map_or(&[], |l| &l.dests)
+    }
+
+    /// The plug's connections, made empty when it has none yet.
+    pub fn links_mut(&mut self) -> &mut Links {
+        self.links.get_or_insert_with(Default::default)
+    }
+
+    /// The plug's connections, when it has any.
+    pub fn links_if_any(&mut self) -> Option<&mut Links> {
+        self.links.as_deref_mut()
     }
 
     /// Whether anything drives this plug (whole or any component).
     pub fn is_driven(&self) -> bool {
-        self.source.is_some()
-            || self
-                .comp_sources
-                .as_ref()
-                .is_some_and(|c| c.iter().any(|s| s.is_some()))
+        self.source().is_some() || self.comp_sources().is_some_and(|c| c.iter().any(|s| s.is_some()))
     }
 }
 
@@ -96,5 +123,18 @@ impl Default for GroupState {
             force: true,
             verified_at: 0,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An element is its value (136 bytes: a matrix inline), index, stamp and one pointer
+    /// to its connections: 156 bytes, 160 aligned (it was 200 with the connections inline).
+    #[test]
+    fn an_element_holds_its_connections_behind_one_pointer() {
+        assert_eq!(std::mem::size_of::<Value>(), 136);
+        assert!(std::mem::size_of::<Elem>() <= 160, "{}", std::mem::size_of::<Elem>());
     }
 }

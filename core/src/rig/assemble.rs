@@ -2,7 +2,6 @@
 //! [`super::build`] — nodes, values, parents and connections — with every error tied to
 //! a file position.
 
-use std::collections::{HashMap, HashSet};
 use std::sync::Arc;
 
 use super::build::{Flat, FlatNode};
@@ -13,11 +12,12 @@ use crate::path::parse_plug_path;
 use crate::registry::Registry;
 use crate::spec::AttrId;
 use crate::value::AttrType;
+use crate::{FastMap, FastSet};
 
 /// Names a reference may miss without an error of its own: nodes of `Use`s in error,
 /// and (with `opaque`) any unknown node, counted in `hidden`.
 struct Quiet<'a> {
-    broken: HashSet<&'a str>,
+    broken: FastSet<&'a str>,
     opaque: bool,
     hidden: &'a mut usize,
 }
@@ -88,6 +88,26 @@ enum EdgeOrigin {
     Connection(usize),
 }
 
+/// The dependency edges made so far with what made each, for the notes of cycle and
+/// conflict errors. Recorded in a list (a 100,000-joint chain makes 200,000 of them); the
+/// map from edge to origin is built only when an error needs it, a later origin of the
+/// same edge replacing an earlier one.
+#[derive(Default)]
+struct Edges {
+    made: Vec<(EdgeKey, EdgeOrigin)>,
+    map: FastMap<EdgeKey, EdgeOrigin>,
+    /// How many of `made` are in `map`.
+    mapped: usize,
+}
+
+impl Edges {
+    fn map(&mut self) -> &FastMap<EdgeKey, EdgeOrigin> {
+        self.map.extend(self.made[self.mapped..].iter().copied());
+        self.mapped = self.made.len();
+        &self.map
+    }
+}
+
 /// The position and text of the note naming what made an edge.
 fn edge_note(origin: EdgeOrigin, flat: &Flat, g: &Graph) -> Option<(Span, String)> {
     match origin {
@@ -108,7 +128,7 @@ fn edge_note(origin: EdgeOrigin, flat: &Flat, g: &Graph) -> Option<(Span, String
 /// every edge goes forward when the node-level graph is acyclic (node-level loops are
 /// allowed; they leave some edges backward). Linear in nodes and edges.
 fn node_order(nodes: &[NodeId], edges: impl Iterator<Item = (NodeId, NodeId)>) -> Vec<NodeId> {
-    let index: HashMap<NodeId, usize> = nodes.iter().enumerate().map(|(k, &n)| (n, k)).collect();
+    let index: FastMap<NodeId, usize> = nodes.iter().enumerate().map(|(k, &n)| (n, k)).collect();
     let mut succ: Vec<Vec<usize>> = vec![Vec::new(); nodes.len()];
     for (a, b) in edges {
         if let (Some(&a), Some(&b)) = (index.get(&a), index.get(&b)) {
@@ -147,7 +167,7 @@ pub(super) fn build_graph(
     hidden: &mut usize,
 ) -> (Graph, Vec<Option<NodeId>>) {
     let mut g = Graph::new(registry.clone());
-    let mut first: HashMap<&str, &FlatNode> = HashMap::new();
+    let mut first: FastMap<&str, &FlatNode> = FastMap::default();
     let mut quiet = Quiet {
         broken: flat.suppressed.iter().map(String::as_str).collect(),
         opaque: flat.opaque.is_some(),
@@ -204,7 +224,7 @@ pub(super) fn build_graph(
         .collect();
     // The elements of multi attributes the file writes or connects, created in one merge
     // per attribute (in whatever order the file lists them).
-    let mut elements: HashMap<(NodeId, AttrId), Vec<u32>> = HashMap::new();
+    let mut elements: FastMap<(NodeId, AttrId), Vec<u32>> = FastMap::default();
     for (n, id) in flat.nodes.iter().zip(&ids) {
         let Some(id) = *id else { continue };
         for v in &n.values {
@@ -248,7 +268,7 @@ pub(super) fn build_graph(
             }
         }
     }
-    let mut edges: HashMap<EdgeKey, EdgeOrigin> = HashMap::new();
+    let mut edges = Edges::default();
     for (k, (n, id)) in flat.nodes.iter().zip(&ids).enumerate() {
         let (Some(id), Some((p, pspan))) = (*id, &n.parent) else {
             continue;
@@ -274,7 +294,9 @@ pub(super) fn build_graph(
                 if let Some(dag) = &kind.spec().dag {
                     for dst_attr in std::iter::once(dag.parent_matrix).chain(dag.links.iter().map(|l| l.child_input)) {
                         if let Some(src) = g.source_of(Plug::new(id, dst_attr)) {
-                            edges.insert((src.node, src.attr, id, dst_attr), EdgeOrigin::Parent(k));
+                            edges
+                                .made
+                                .push(((src.node, src.attr, id, dst_attr), EdgeOrigin::Parent(k)));
                         }
                     }
                 }
@@ -289,7 +311,9 @@ pub(super) fn build_graph(
         let (Some(s), Some(d)) = (s, d) else { continue };
         match g.connect(s, d) {
             Ok(()) => {
-                edges.insert((s.node, s.attr, d.node, d.attr), EdgeOrigin::Connection(k));
+                edges
+                    .made
+                    .push(((s.node, s.attr, d.node, d.attr), EdgeOrigin::Connection(k)));
             }
             Err(Error::Cycle { cycle, .. }) => {
                 let mut diag = Diagnostic::new(
@@ -303,6 +327,7 @@ pub(super) fn build_graph(
                 )
                 .hint("plugs cannot depend on themselves; remove one of the connections in the cycle");
                 if let Some(path) = g.dependency_path((d.node, d.attr), (s.node, s.attr)) {
+                    let edges = edges.map();
                     for w in path.windows(2) {
                         let key = (w[0].0, w[0].1, w[1].0, w[1].1);
                         if let Some((sp, t)) = edges.get(&key).and_then(|&o| edge_note(o, flat, &g)) {
@@ -340,7 +365,7 @@ pub(super) fn build_graph(
                     .source_of(d)
                     .or_else(|| (0..3).find_map(|k| g.source_of(d.component(k))))
                 {
-                    let origin = edges.get(&(src.node, src.attr, d.node, d.attr));
+                    let origin = edges.map().get(&(src.node, src.attr, d.node, d.attr));
                     if let Some((sp, t)) = origin.and_then(|&o| edge_note(o, flat, &g)) {
                         diag = diag.note(sp, t);
                     }

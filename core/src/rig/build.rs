@@ -69,6 +69,13 @@ pub(super) struct FlatVal {
     pub(super) span: Span,
 }
 
+/// Up to this many values, a flat node's values are searched in place (see
+/// [`FlatNode::value_index`]).
+const VALUE_SCAN: usize = 16;
+
+/// See [`FlatNode::value_index`].
+type ValueIndex = crate::FastMap<(AttrId, Option<u32>), usize>;
+
 pub(super) struct FlatNode {
     pub(super) name: String,
     pub(super) span: Span,
@@ -77,8 +84,9 @@ pub(super) struct FlatNode {
     pub(super) parent: Option<(String, Span)>,
     pub(super) values: Vec<FlatVal>,
     /// Position in `values` of each (attribute, element) written, so merging the
-    /// elements of a large multi one by one is linear.
-    pub(super) value_index: HashMap<(AttrId, Option<u32>), usize>,
+    /// elements of a large multi one by one is linear: built once `values` outgrows
+    /// [`VALUE_SCAN`] (a node writing a few values is searched in place, no map).
+    pub(super) value_index: Option<Box<ValueIndex>>,
     pub(super) via: Option<Span>,
     /// Custom attributes (`attrs: {..}`), each with its position; `kind` already has them.
     pub(super) custom: Vec<(AttrSpec, Span)>,
@@ -257,8 +265,12 @@ impl<'a> Expander<'a> {
     /// Merges one authored value into a flat node (component writes update the whole value).
     fn put(node: &mut FlatNode, attr: AttrId, index: Option<u32>, comp: Option<u8>, value: Value, span: Span) {
         let Some(spec) = Self::spec_of(&node.kind) else { return };
-        let k = match node.value_index.get(&(attr, index)) {
-            Some(&k) => k,
+        let found = match &node.value_index {
+            Some(map) => map.get(&(attr, index)).copied(),
+            None => node.values.iter().position(|v| (v.attr, v.index) == (attr, index)),
+        };
+        let k = match found {
+            Some(k) => k,
             None => {
                 node.values.push(FlatVal {
                     attr,
@@ -266,8 +278,23 @@ impl<'a> Expander<'a> {
                     value: spec.attr(attr).default.clone(),
                     span: span.clone(),
                 });
-                node.value_index.insert((attr, index), node.values.len() - 1);
-                node.values.len() - 1
+                let k = node.values.len() - 1;
+                match &mut node.value_index {
+                    Some(map) => {
+                        map.insert((attr, index), k);
+                    }
+                    None if node.values.len() > VALUE_SCAN => {
+                        let map = node
+                            .values
+                            .iter()
+                            .enumerate()
+                            .map(|(k, v)| ((v.attr, v.index), k))
+                            .collect();
+                        node.value_index = Some(Box::new(map));
+                    }
+                    None => {}
+                }
+                k
             }
         };
         let e = &mut node.values[k];
@@ -280,7 +307,9 @@ impl<'a> Expander<'a> {
 
     /// Reads `field: value` of a node of type `spec` into the flat node.
     fn field(&mut self, node: &mut FlatNode, fname: &str, fspan: &Span, value: &Node) {
-        let Some(spec) = Self::spec_of(&node.kind) else { return };
+        // The type is shared, not the node: `node` takes the values read below.
+        let Some(kind) = node.kind.clone() else { return };
+        let spec = kind.spec();
         let Some((attr, comp)) = spec.find(fname) else {
             let hint = match nearest(fname, spec.all_names().chain(["parent"])) {
                 Some(s) => format!("did you mean `{s}`? `sinew nodes {}` lists its attributes", spec.name),
@@ -295,7 +324,7 @@ impl<'a> Expander<'a> {
             );
             return;
         };
-        let a = spec.attr(attr).clone();
+        let a = spec.attr(attr);
         if !a.is_input() {
             self.diags.push(
                 Diagnostic::new(
@@ -378,22 +407,22 @@ impl<'a> Expander<'a> {
                         )
                         .hint(format!(
                             "write its elements as a list [{}, ..] or a map {{ 0: {}, 3: .. }}",
-                            example(a.ty, Some(&a)),
-                            example(a.ty, Some(&a))
+                            example(a.ty, Some(a)),
+                            example(a.ty, Some(a))
                         )),
                     );
                     return;
                 }
             };
             for (i, n) in entries {
-                match self.read_attr_value(n, a.ty, Some(&a), &what) {
+                match self.read_attr_value(n, a.ty, Some(a), &what) {
                     Ok(v) => Self::put(node, attr, Some(i), None, v, n.span.clone()),
                     Err(d) => self.diags.push(d),
                 }
             }
             return;
         }
-        match self.read_attr_value(value, a.ty, Some(&a), &what) {
+        match self.read_attr_value(value, a.ty, Some(a), &what) {
             Ok(v) => match node.kind.as_ref().map(|k| k.check_input(k.spec(), attr, &v)) {
                 Some(Err(e)) => {
                     let span = e
@@ -539,7 +568,7 @@ impl<'a> Expander<'a> {
             kind,
             parent: n.parent.clone(),
             values: Vec::new(),
-            value_index: HashMap::new(),
+            value_index: None,
             via: None,
             custom: Vec::new(),
             authoring: Vec::new(),

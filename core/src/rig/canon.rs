@@ -3,13 +3,12 @@
 //! fmt`) always writes long names, also in component bodies and `Use` overrides,
 //! which are printed from the document rather than from the graph.
 
-use std::collections::HashMap;
-
 use super::doc::{Body, RigDocument, SetDecl, UseDecl};
 use crate::graph::Graph;
 use crate::path::parse_plug_path;
 use crate::registry::Registry;
 use crate::spec::NodeSpec;
+use crate::FastMap;
 
 /// The long name of attribute (or vec3 child) `name` of `spec` when `name` is a short
 /// name; `None` when it is a long name or unknown.
@@ -62,11 +61,6 @@ fn long_sets<'s>(sets: &mut [SetDecl], spec_of: &dyn Fn(&str) -> Option<&'s Node
 /// Rewrites a body's field names, connections and overrides; `outside` gives the
 /// node types of names the body does not define.
 fn long_body<'s>(body: &mut Body, registry: &'s Registry, outside: &dyn Fn(&str) -> Option<&'s NodeSpec>) {
-    let local: HashMap<String, &'s NodeSpec> = body
-        .nodes
-        .iter()
-        .filter_map(|n| Some((n.name.clone(), registry.spec(&n.type_name)?)))
-        .collect();
     for n in &mut body.nodes {
         let Some(spec) = registry.spec(&n.type_name) else {
             continue;
@@ -77,6 +71,11 @@ fn long_body<'s>(body: &mut Body, registry: &'s Registry, outside: &dyn Fn(&str)
             }
         }
     }
+    let local: FastMap<&str, &'s NodeSpec> = body
+        .nodes
+        .iter()
+        .filter_map(|n| Some((n.name.as_str(), registry.spec(&n.type_name)?)))
+        .collect();
     let spec_of = |name: &str| local.get(name).copied().or_else(|| outside(name));
     for c in &mut body.connections {
         if let Some(p) = long_path(&c.src, &spec_of) {

@@ -279,10 +279,12 @@ impl Reader<'_> {
             );
             return Vec::new();
         };
-        let mut out: Vec<NodeDecl> = Vec::new();
-        let mut seen: HashMap<String, Span> = HashMap::new();
+        let mut out: Vec<NodeDecl> = Vec::with_capacity(entries.len());
+        let mut seen: crate::FastMap<&str, &Span> = crate::FastMap::default();
+        // The fields seen on one node; emptied for the next (kept small: `clear` costs its capacity).
+        let mut fseen: crate::FastMap<&str, &Span> = crate::FastMap::default();
         for (k, v) in entries {
-            let Some(name) = k.kind.as_str().map(str::to_string) else {
+            let Some(name) = k.kind.as_str() else {
                 self.err(
                     &k.span,
                     format!("a node name must be a string, found {}", k.kind.describe()),
@@ -294,11 +296,11 @@ impl Reader<'_> {
                 self.diags.push(
                     Diagnostic::new(k.span.clone(), format!("duplicate node name `{name}`"))
                         .hint("node names must be unique; rename one of them")
-                        .note(first.clone(), "first defined here"),
+                        .note((*first).clone(), "first defined here"),
                 );
                 continue;
             }
-            seen.insert(name.clone(), k.span.clone());
+            seen.insert(name, &k.span);
             let Ast::Group { name: Some(ty), items } = &v.kind else {
                 self.err(
                     &v.span,
@@ -308,14 +310,17 @@ impl Reader<'_> {
                 continue;
             };
             let mut decl = NodeDecl {
-                name,
+                name: name.to_string(),
                 name_span: k.span.clone(),
                 type_name: ty.clone(),
                 type_span: v.span.clone(),
                 parent: None,
                 fields: Vec::new(),
             };
-            let mut fseen: HashMap<&str, &Span> = HashMap::new();
+            if fseen.capacity() > 64 {
+                fseen = crate::FastMap::default();
+            }
+            fseen.clear();
             for it in items {
                 let Some((f, fs)) = &it.key else {
                     self.err(

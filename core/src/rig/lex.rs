@@ -124,9 +124,10 @@ const NON_FINITE_HINT: &str = "sinew refuses non-finite numbers (inf, NaN): give
 /// Whether `s` (after an optional sign) spells a non-finite number: `inf`, `NaN`,
 /// optionally with an `f32`/`f64` suffix.
 pub fn is_non_finite_word(s: &str) -> bool {
-    ["inf", "NaN"]
-        .iter()
-        .any(|w| word_at(s, w) || word_at(s, &format!("{w}f32")) || word_at(s, &format!("{w}f64")))
+    ["inf", "NaN"].iter().any(|w| {
+        s.strip_prefix(w)
+            .is_some_and(|r| word_at(r, "") || word_at(r, "f32") || word_at(r, "f64"))
+    })
 }
 
 /// A number at the start of `s` (RON's integer and float grammar): optional sign;
