@@ -82,11 +82,21 @@ pub unsafe fn load8_block(p: &[Vec3]) -> ([__m256; 3], [[f32; 8]; 3]) {
 #[target_feature(enable = "avx2")]
 #[inline]
 pub unsafe fn blend_store8(p: &mut [Vec3], d: &[[f32; 8]; 3], input: [__m256; 3], envelope: f32) {
-    let mut r = [
+    let r = [
         _mm256_loadu_ps(d[0].as_ptr()),
         _mm256_loadu_ps(d[1].as_ptr()),
         _mm256_loadu_ps(d[2].as_ptr()),
     ];
+    blend_store8_regs(p, r, input, envelope);
+}
+
+/// [`blend_store8`] of the deformed points in registers (`r`, one per coordinate).
+///
+/// # Safety
+/// The CPU must support AVX2 (AVX suffices); `p` must hold at least 8 points.
+#[target_feature(enable = "avx2")]
+#[inline]
+pub unsafe fn blend_store8_regs(p: &mut [Vec3], mut r: [__m256; 3], input: [__m256; 3], envelope: f32) {
     if envelope != 1.0 {
         let env = _mm256_set1_ps(envelope);
         for (r, q) in r.iter_mut().zip(input) {

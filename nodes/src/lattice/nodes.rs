@@ -381,7 +381,10 @@ impl Deformer for Ffd {
                     to,
                     all: f.outside == 1,
                 };
-                deform_blocks(pos, out, m, env, &block, &block);
+                let point = |p| block.map(0, p);
+                if m.sparse.is_some() || !power.dense(&to, block.all, pos, out, env, &point) {
+                    deform_blocks(pos, out, m, env, &block, &block);
+                }
             });
             return Ok(());
         }

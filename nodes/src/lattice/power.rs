@@ -19,6 +19,9 @@ use glam::{DVec3, Vec3};
 use super::ffd::Lattice;
 use crate::deformer::base::{Affine, Block, LANES};
 
+#[cfg(target_arch = "x86_64")]
+mod avx2;
+
 /// Most points per window and axis of the power form (larger windows use the Bernstein path).
 pub const MAX_WINDOW_POINTS: usize = 8;
 
@@ -288,139 +291,30 @@ impl PowerLattice {
         true
     }
 
-    /// [`PowerLattice::block`] with AVX2 (a multiply then an add per step, no fused
-    /// multiply-add: the same bits).
-    ///
-    /// # Safety
-    /// The CPU must support AVX2.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    #[inline]
-    unsafe fn block_avx2(&self, to: &Affine, all: bool, b: &mut Block) -> bool {
-        use std::arch::x86_64::*;
-        const _: () = assert!(LANES == 8);
-        // Macros rather than closures: a closure does not inherit the function's target
-        // features, so it would not be inlined.
-        macro_rules! step {
-            ($a:expr, $b:expr, $k:expr) => {
-                _mm256_add_ps(_mm256_mul_ps($a, $b), $k)
-            };
+    /// The dense ffd loop (every vertex, weight 1) with AVX2, without the detour through
+    /// [`Block`] arrays: `out[v] = input[v] + (f(input[v]) − input[v]) · envelope` (or
+    /// `f(input[v])` at envelope 1), with `f` [`PowerLattice::block`]'s map eight vertices at a
+    /// time and `point` (which must be the same map, as the per-point path) for blocks across
+    /// local windows and the last vertices. The same bits as `deform_blocks` with those maps.
+    /// False (nothing written) on CPUs without AVX2.
+    pub fn dense(
+        &self,
+        to: &Affine,
+        all: bool,
+        input: &[Vec3],
+        out: &mut [Vec3],
+        envelope: f32,
+        point: &impl Fn(Vec3) -> Vec3,
+    ) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU was just checked to have AVX2.
+            unsafe { self.dense_avx2(to, all, input, out, envelope, point) };
+            return true;
         }
-        macro_rules! splat {
-            ($v:expr) => {
-                _mm256_set1_ps($v)
-            };
-        }
-        let (x, y, z) = (
-            _mm256_loadu_ps(b[0].as_ptr()),
-            _mm256_loadu_ps(b[1].as_ptr()),
-            _mm256_loadu_ps(b[2].as_ptr()),
-        );
-        let m = to.to_array();
-        let half = splat!(0.5);
-        // As `Affine::apply`, then + ½.
-        let mut stu = [x; 3];
-        for (i, s) in stu.iter_mut().enumerate() {
-            let r = _mm256_add_ps(_mm256_mul_ps(splat!(m[i]), x), _mm256_mul_ps(splat!(m[i + 3]), y));
-            let r = _mm256_add_ps(r, _mm256_mul_ps(splat!(m[i + 6]), z));
-            *s = _mm256_add_ps(_mm256_add_ps(r, splat!(m[i + 9])), half);
-        }
-        let (zero, one) = (_mm256_setzero_ps(), splat!(1.0));
-        let every = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
-        let mut inside = every;
-        for s in stu {
-            let ge = _mm256_cmp_ps::<_CMP_GE_OQ>(s, zero);
-            let le = _mm256_cmp_ps::<_CMP_LE_OQ>(s, one);
-            inside = _mm256_and_ps(inside, _mm256_and_ps(ge, le));
-        }
-        let mut w = [0usize; 3];
-        for a in 0..3 {
-            let axis = &self.axes[a];
-            w[a] = axis.window_of(_mm256_cvtss_f32(stu[a]));
-            if axis.windows() > 1 {
-                // `Axis::holds` lane by lane.
-                let f = _mm256_mul_ps(stu[a], splat!(axis.cells));
-                let mut ok = every;
-                if w[a] > 0 {
-                    let lo = splat!((w[a] * axis.per_window) as f32);
-                    ok = _mm256_and_ps(ok, _mm256_cmp_ps::<_CMP_GE_OQ>(f, lo));
-                }
-                if w[a] + 1 < axis.windows() {
-                    let hi = splat!(((w[a] + 1) * axis.per_window) as f32);
-                    ok = _mm256_and_ps(ok, _mm256_cmp_ps::<_CMP_LT_OQ>(f, hi));
-                }
-                if _mm256_movemask_ps(ok) != 0xff {
-                    return false;
-                }
-            }
-        }
-        let (coeffs, [na, nb, nc], scale, shift) = self.set(w);
-        let ps = step!(stu[0], splat!(scale[0]), splat!(shift[0]));
-        let pt = step!(stu[1], splat!(scale[1]), splat!(shift[1]));
-        let pu = step!(stu[2], splat!(scale[2]), splat!(shift[2]));
-        // Rows of 2, 3 or 4 points (the usual s divisions) with their Horner steps unrolled.
-        let [zx, zy, zz] = match na {
-            2 => horner_avx2::<2>(coeffs, [na, nb, nc], [ps, pt, pu]),
-            3 => horner_avx2::<3>(coeffs, [na, nb, nc], [ps, pt, pu]),
-            4 => horner_avx2::<4>(coeffs, [na, nb, nc], [ps, pt, pu]),
-            _ => horner_avx2::<0>(coeffs, [na, nb, nc], [ps, pt, pu]),
-        };
-        // Points kept (outside, `inside` mode) keep their input.
-        let moved = if all { every } else { inside };
-        _mm256_storeu_ps(b[0].as_mut_ptr(), _mm256_blendv_ps(x, zx, moved));
-        _mm256_storeu_ps(b[1].as_mut_ptr(), _mm256_blendv_ps(y, zy, moved));
-        _mm256_storeu_ps(b[2].as_mut_ptr(), _mm256_blendv_ps(z, zz, moved));
-        true
+        let _ = (to, all, input, out, envelope, point);
+        false
     }
-}
-
-/// The nested Horner evaluation of [`PowerLattice::point`] for 8 points with AVX2 (a multiply
-/// then an add per step, no fused multiply-add: the same bits). `NA` is the row length `na`
-/// when known at compile time (its steps unrolled), 0 otherwise.
-///
-/// # Safety
-/// The CPU must support AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-#[inline]
-unsafe fn horner_avx2<const NA: usize>(
-    coeffs: &[Vec3],
-    [na, nb, nc]: [usize; 3],
-    [ps, pt, pu]: [std::arch::x86_64::__m256; 3],
-) -> [std::arch::x86_64::__m256; 3] {
-    use std::arch::x86_64::*;
-    macro_rules! step {
-        ($a:expr, $b:expr, $k:expr) => {
-            _mm256_add_ps(_mm256_mul_ps($a, $b), $k)
-        };
-    }
-    let na = if NA > 0 { NA } else { na };
-    let zero = _mm256_setzero_ps();
-    let (mut zx, mut zy, mut zz) = (zero, zero, zero);
-    for c in (0..nc).rev() {
-        let (mut yx, mut yy, mut yz) = (zero, zero, zero);
-        for b in (0..nb).rev() {
-            let row = &coeffs[na * (b + nb * c)..na * (b + nb * c + 1)];
-            let last = row[na - 1];
-            let (mut xx, mut xy, mut xz) = (_mm256_set1_ps(last.x), _mm256_set1_ps(last.y), _mm256_set1_ps(last.z));
-            for &k in row[..na - 1].iter().rev() {
-                xx = step!(xx, ps, _mm256_set1_ps(k.x));
-                xy = step!(xy, ps, _mm256_set1_ps(k.y));
-                xz = step!(xz, ps, _mm256_set1_ps(k.z));
-            }
-            if b + 1 == nb {
-                (yx, yy, yz) = (xx, xy, xz);
-            } else {
-                (yx, yy, yz) = (step!(yx, pt, xx), step!(yy, pt, xy), step!(yz, pt, xz));
-            }
-        }
-        if c + 1 == nc {
-            (zx, zy, zz) = (yx, yy, yz);
-        } else {
-            (zx, zy, zz) = (step!(zx, pu, yx), step!(zy, pu, yy), step!(zz, pu, yz));
-        }
-    }
-    [zx, zy, zz]
 }
 
 /// Whether lattice coordinates `stu` lie inside the lattice (`[0, 1]³`).
@@ -534,7 +428,57 @@ mod tests {
 
     #[test]
     fn blocks_give_the_point_bits_and_refuse_mixed_windows() {
-        let l = bumpy([3, 5, 2]);
+        // 2 × 5 × 2 (Maya's default; local windows 2 × 3 × 2) and 3 × 5 × 2 take different
+        // unrolled AVX2 evaluations.
+        for div in [[3, 5, 2], [2, 5, 2]] {
+            blocks_give_the_point_bits(div);
+        }
+    }
+
+    #[test]
+    fn the_dense_loop_gives_the_point_bits() {
+        // 203 points on a spiral through the 2 × 5 × 2 lattice and out of it (some blocks
+        // across local windows, a tail of 3), both modes, envelope 1 and 0.3: the dense loop
+        // must write what the per-point map blended by the envelope gives.
+        let l = bumpy([2, 5, 2]);
+        let back = Affine::new(Mat4::from_scale(Vec3::splat(2.0)));
+        let to = Affine::new(Mat4::from_rotation_z(0.1) * Mat4::from_scale(Vec3::splat(0.5)));
+        let input: Vec<Vec3> = (0..203)
+            .map(|i| {
+                let a = i as f32 * 0.37;
+                Vec3::new(0.8 * a.cos(), -1.1 + 0.011 * i as f32, 0.6 * a.sin())
+            })
+            .collect();
+        let mut power = PowerLattice::default();
+        for local in [None, Some([2, 2, 2])] {
+            power.prepare(&l, local, &back);
+            for all in [false, true] {
+                let point = |p: Vec3| {
+                    let stu = to.apply(p) + 0.5;
+                    if all || inside(stu) {
+                        power.point(stu)
+                    } else {
+                        p
+                    }
+                };
+                for envelope in [1.0, 0.3] {
+                    let mut out = vec![Vec3::NAN; input.len()];
+                    if !power.dense(&to, all, &input, &mut out, envelope, &point) {
+                        println!("skipped: no AVX2 on this CPU");
+                        return;
+                    }
+                    for (o, &p) in out.iter().zip(&input) {
+                        let d = point(p);
+                        let want = if envelope == 1.0 { d } else { p + (d - p) * envelope };
+                        assert_eq!(o.to_array().map(f32::to_bits), want.to_array().map(f32::to_bits));
+                    }
+                }
+            }
+        }
+    }
+
+    fn blocks_give_the_point_bits(div: [usize; 3]) {
+        let l = bumpy(div);
         let back = Affine::new(Mat4::from_scale(Vec3::splat(2.0)));
         // Object space to lattice space: turned a little and halved (then + ½).
         let to = Affine::new(Mat4::from_rotation_z(0.1) * Mat4::from_scale(Vec3::splat(0.5)));

@@ -4,9 +4,10 @@
 //! the same way and add the stored offsets back in the smoothed input's frames:
 //! `out = S(D) + displacement · F_S(D) · d`, with `d = F_S(R)ᵀ (R − S(R))`.
 //!
-//! Computed as `R + (S(D) − S(R)) + (displacement · F_S(D)·d − F_S(R)·d)`, the same value
-//! (since `R = S(R) + F_S(R)·d`), so that an undeformed input returns the rest mesh exactly,
-//! bit for bit.
+//! Computed as `R + ((S(D) + displacement · F_S(D)·d) − (S(R) + F_S(R)·d))`, the same value
+//! (since `R = S(R) + F_S(R)·d`), with the second bracket stored at bind and computed by the
+//! same operations as the first, so that an undeformed input returns the rest mesh exactly,
+//! bit for bit (see [`super::frame`]).
 //!
 //! Tangent frame of vertex `v` on a smoothed mesh `S`: `t = normalize(S[a] − S[v])` for its
 //! first neighbour `a`, `n = normalize((S[a] − S[v]) × (S[b] − S[v]))` for the neighbour `b`
@@ -33,10 +34,9 @@ use std::sync::Arc;
 use glam::{DVec3, Vec3, Vec3A};
 use sinew_core::{AttrId, ComputeContext, ComputeError, Input, Mesh, ObjectRef, Output, SpecBuilder};
 
+use super::frame::{base_of, map_one, map_range, FrameBlock};
 use super::smooth::Smoother;
-use crate::deformer::base::{deform_map, finite, smooth_normals_into, Deformer, DeformerAttrs, Job, PointMap};
-
-const NONE: u32 = u32::MAX;
+use crate::deformer::base::{deform_map, finite, smooth_normals_into, Deformer, DeformerAttrs, Job, PointMap, LANES};
 
 /// Bind data of a deltaMush.
 #[derive(Clone, Debug, Default)]
@@ -49,47 +49,18 @@ pub struct MushBind {
     pub step: f32,
     /// The rest positions `R`.
     pub rest: Vec<Vec3>,
-    /// `S(R)`.
-    pub smooth_rest: Vec<Vec3A>,
-    /// The two frame neighbours of each vertex (`u32::MAX` = no frame).
-    pub frame: Vec<[u32; 2]>,
-    /// Offsets in frame coordinates (object space where there is no frame).
-    pub local: Vec<Vec3>,
-    /// `F_S(R) · d`, computed as every frame computes `F_S(D) · d`.
-    pub rest_offset: Vec<Vec3A>,
+    /// Per-vertex frames, offsets and rest data, [`LANES`] vertices per block.
+    pub blocks: Vec<FrameBlock>,
 }
 
-/// `e / |e|`, or zero for a zero (or non-finite) `e`; a select rather than a branch.
-#[inline(always)]
-fn unit_or_zero(e: Vec3A) -> Vec3A {
-    let r = 1.0 / e.dot(e).sqrt();
-    // `r ≥ 0` or NaN: a float comparison (it vectorizes) that is `r.is_finite()`.
-    e * if r.abs() < f32::INFINITY { r } else { 0.0 }
-}
-
-/// `F · d` for vertex `v` on smoothed positions `s`.
-#[inline(always)]
-fn frame_apply(s: &[Vec3A], v: usize, f: [u32; 2], d: Vec3) -> Vec3A {
-    if f[0] == NONE {
-        return d.into();
-    }
-    let p = s[v];
-    let e1 = s[f[0] as usize] - p;
-    let e2 = s[f[1] as usize] - p;
-    let n = unit_or_zero(e1.cross(e2));
-    let t = unit_or_zero(e1);
-    let b = n.cross(t);
-    t * d.x + b * d.y + n * d.z
-}
-
-/// The per-vertex second half of delta mush (see the module docs), inlined into the vertex
-/// loop.
+/// The per-vertex second half of delta mush with the inward/outward constraint or a
+/// membership (see [`super::frame`]), inlined into the vertex loop.
 struct MushMap<'a> {
     bind: &'a MushBind,
     smooth: &'a [Vec3A],
     normals: &'a [Vec3],
     /// `displacement · scale`.
-    displacement: Vec3A,
+    displacement: [f32; 3],
     inward: f32,
     outward: f32,
     constrain: bool,
@@ -98,12 +69,7 @@ struct MushMap<'a> {
 impl PointMap for MushMap<'_> {
     #[inline(always)]
     fn map(&self, v: usize, p: Vec3) -> Vec3 {
-        let b = self.bind;
-        let offset = frame_apply(self.smooth, v, b.frame[v], b.local[v]) * self.displacement - b.rest_offset[v];
-        // Components where nothing changed keep the rest bits (−0.0 stays −0.0).
-        let change = Vec3::from(self.smooth[v] - b.smooth_rest[v] + offset);
-        let r = b.rest[v];
-        let out = Vec3::select(change.cmpeq(Vec3::ZERO), r, r + change);
+        let out = map_one(&self.bind.blocks, self.smooth, v, self.displacement);
         if !self.constrain {
             return out;
         }
@@ -133,51 +99,57 @@ impl MushBind {
         let (mut s, mut tmp) = (Vec::new(), Vec::new());
         smoother.smooth(&rest.positions, iterations, step, &mut s, &mut tmp);
         let sv: Vec<Vec3> = s.iter().map(|&p| Vec3::from(p)).collect();
-        let mut frame = vec![[NONE; 2]; n];
-        let mut local = vec![Vec3::ZERO; n];
+        let mut blocks = vec![FrameBlock::default(); n.div_ceil(LANES)];
         for v in 0..n {
+            let (k, l) = (&mut blocks[v / LANES], v % LANES);
             let d = rest.positions[v] - sv[v];
-            local[v] = d;
+            let mut local = d;
+            // No frame: both neighbours the vertex itself (the eight-wide loop computes a
+            // frame for every lane and keeps the offset where the first neighbour is `v`).
+            let mut f = [v as u32; 2];
             let nb = smoother.adj.of(v);
-            let Some(&a) = nb.first() else {
-                continue;
-            };
-            let e1 = (sv[a as usize] - sv[v]).normalize_or_zero();
-            let best = nb[1..]
-                .iter()
-                .map(|&b| (b, e1.cross((sv[b as usize] - sv[v]).normalize_or_zero()).length()))
-                .max_by(|x, y| x.1.total_cmp(&y.1));
-            let Some((b, sin)) = best else {
-                continue;
-            };
-            if sin < 1e-4 {
-                continue;
+            let frame = nb.first().and_then(|&a| {
+                let e1 = (sv[a as usize] - sv[v]).normalize_or_zero();
+                let (b, sin) = nb[1..]
+                    .iter()
+                    .map(|&b| (b, e1.cross((sv[b as usize] - sv[v]).normalize_or_zero()).length()))
+                    .max_by(|x, y| x.1.total_cmp(&y.1))?;
+                (sin >= 1e-4).then_some((a, b, e1))
+            });
+            if let Some((a, b, t)) = frame {
+                // Local coordinates: project on the frame's axes.
+                let nrm = t.cross(sv[b as usize] - sv[v]).normalize_or_zero();
+                let bt = nrm.cross(t);
+                f = [a, b];
+                local = Vec3::new(d.dot(t), d.dot(bt), d.dot(nrm));
             }
-            let f = [a, b];
-            // Local coordinates: project on the frame's axes.
-            let (t, nrm) = (e1, e1.cross(sv[b as usize] - sv[v]).normalize_or_zero());
-            let bt = nrm.cross(t);
-            frame[v] = f;
-            local[v] = Vec3::new(d.dot(t), d.dot(bt), d.dot(nrm));
+            (k.nbr[0][l], k.nbr[1][l]) = (f[0], f[1]);
+            for c in 0..3 {
+                k.local[c][l] = local[c];
+                k.rest[c][l] = rest.positions[v][c];
+            }
         }
-        let rest_offset = (0..n).map(|v| frame_apply(&s, v, frame[v], local[v])).collect();
+        for v in 0..n {
+            let base = base_of(&blocks, &s, v, [1.0; 3]);
+            let (k, l) = (&mut blocks[v / LANES], v % LANES);
+            for (lane, b) in k.base.iter_mut().zip(base) {
+                lane[l] = b;
+            }
+        }
         MushBind {
             smoother,
             iterations,
             step,
             rest: rest.positions.clone(),
-            smooth_rest: s,
-            frame,
-            local,
-            rest_offset,
+            blocks,
         }
     }
 }
 
 #[derive(Default)]
 struct Scratch {
-    smooth: Vec<Vec3A>,
-    tmp: Vec<Vec3A>,
+    a: Vec<Vec3A>,
+    b: Vec<Vec3A>,
     normals: Vec<Vec3>,
 }
 
@@ -330,19 +302,30 @@ impl Deformer for DeltaMush {
             )));
         }
         let (disp, inward, outward) = (f.displacement, f.inward, f.outward);
+        let k = (f.scale * disp).to_array();
+        let constrain = inward != 0.0 || outward != 0.0;
         SCRATCH.with(|s| {
             let mut s = s.borrow_mut();
             let s = &mut *s;
-            b.smoother.smooth(pos, b.iterations, b.step, &mut s.smooth, &mut s.tmp);
-            let constrain = inward != 0.0 || outward != 0.0;
+            if job.membership.sparse.is_none() && !constrain {
+                // Every vertex: the frames are computed range by range as the smoothing
+                // finishes them, while they are in cache.
+                let (blocks, out, envelope) = (&b.blocks, job.out, job.envelope);
+                b.smoother
+                    .smooth_streamed(pos, b.iterations, b.step, &mut s.a, &mut s.b, |sm, range| {
+                        map_range(blocks, sm, pos, out, range, k, envelope)
+                    });
+                return;
+            }
+            b.smoother.smooth(pos, b.iterations, b.step, &mut s.a, &mut s.b);
             if constrain {
                 smooth_normals_into(pos, &job.input.triangles, &mut s.normals);
             }
             let map = MushMap {
                 bind: b,
-                smooth: &s.smooth,
+                smooth: &s.a,
                 normals: &s.normals,
-                displacement: Vec3A::from(f.scale) * disp,
+                displacement: k,
                 inward,
                 outward,
                 constrain,

@@ -4,10 +4,14 @@
 //! | --- | --- |
 //! | [`smooth`] | Laplacian smoothing over a fixed topology (bind-time adjacency) |
 //! | [`delta_mush`] | `deltaMush` (Mancewicz et al. 2014) |
+//! | [`frame`] | delta mush's per-vertex frames, eight vertices at a time |
 //! | [`tension`] | `tension` (rest edge lengths restored by relaxation) |
 
 pub mod delta_mush;
+pub mod frame;
 pub mod smooth;
+#[cfg(target_arch = "x86_64")]
+mod smooth_avx2;
 pub mod tension;
 
 #[cfg(test)]

@@ -41,8 +41,10 @@ pub struct Smoother {
     /// Start of each group's slots in `slots` (`n / GROUP + 1` entries, in units of `GROUP`
     /// indices): group `g` has `group_start[g + 1] − group_start[g]` slots, its largest degree.
     group_start: Vec<u32>,
-    /// Neighbour indices by group, slot-major (`GROUP` indices per slot, one per vertex of the
-    /// group); `n` (the sentinel) past a vertex's degree.
+    /// Neighbours by group, slot-major (`GROUP` per slot, one per vertex of the group), as
+    /// byte offsets (`16 · index` into the 16-byte points: no scaling per load); the
+    /// sentinel `16 · n` past a vertex's degree. Empty (and `group_start` just `[0]`) for
+    /// meshes too large for 32-bit offsets, which go one vertex at a time.
     slots: Vec<u32>,
     /// Distance weighting: normalised neighbour weights `ωᵤ / Σ ω`, one per
     /// `adj.neighbors` entry; empty for the plain mean.
@@ -51,8 +53,41 @@ pub struct Smoother {
     slot_weights: Vec<f32>,
 }
 
+/// Asks the CPU to bring `data` into its second-level cache ahead of use (a hint; nothing
+/// on other architectures).
+#[inline(always)]
+pub fn prefetch<T>(data: &[T]) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T1};
+        let (p, len) = (data.as_ptr() as *const i8, std::mem::size_of_val(data));
+        for k in (0..len).step_by(64) {
+            // SAFETY: `k < len`: inside `data`; a prefetch never faults anyway.
+            unsafe { _mm_prefetch::<_MM_HINT_T1>(p.add(k)) };
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = data;
+}
+
+/// The point at byte offset `offset` of `src`.
+///
+/// # Safety
+/// `offset` is `16 · i` for an `i < src.len()`.
+#[inline(always)]
+unsafe fn at(src: &[Vec3A], offset: u32) -> Vec3A {
+    *(src.as_ptr() as *const u8).add(offset as usize).cast::<Vec3A>()
+}
+
+/// Resizes `v` to `n + 1` points (new ones zero; existing values are kept: every stage
+/// writes before it reads) and sets the last, the sentinel, to `+0`.
+fn with_sentinel(v: &mut Vec<Vec3A>, n: usize) {
+    v.resize(n + 1, Vec3A::ZERO);
+    v[n] = Vec3A::ZERO;
+}
+
 /// Vertices per pass per step of the fused sweep (a multiple of [`GROUP`]).
-const CHUNK: usize = 512;
+pub const CHUNK: usize = 512;
 
 /// Vertices whose neighbour sums are computed together.
 pub const GROUP: usize = 8;
@@ -76,13 +111,19 @@ impl Smoother {
             .max()
             .unwrap_or(0);
         let (mut group_start, mut slots) = (vec![0u32], Vec::new());
-        for g in 0..n / GROUP {
-            let vs = g * GROUP..(g + 1) * GROUP;
-            let width = vs.clone().map(|v| adj.of(v).len()).max().unwrap_or(0);
-            for k in 0..width {
-                slots.extend(vs.clone().map(|v| adj.of(v).get(k).copied().unwrap_or(n as u32)));
+        let offset = |u: u32| u32::try_from(u as usize * size_of::<Vec3A>()).ok();
+        if offset(n as u32).is_some() {
+            for g in 0..n / GROUP {
+                let vs = g * GROUP..(g + 1) * GROUP;
+                let width = vs.clone().map(|v| adj.of(v).len()).max().unwrap_or(0);
+                for k in 0..width {
+                    slots.extend(
+                        vs.clone()
+                            .filter_map(|v| offset(adj.of(v).get(k).copied().unwrap_or(n as u32))),
+                    );
+                }
+                group_start.push(group_start[g] + width as u32);
             }
-            group_start.push(group_start[g] + width as u32);
         }
         Smoother {
             adj,
@@ -126,7 +167,7 @@ impl Smoother {
             }
         }
         let mut slot_weights = Vec::with_capacity(s.slots.len());
-        for g in 0..n / GROUP {
+        for g in 0..s.group_start.len() - 1 {
             let width = (s.group_start[g + 1] - s.group_start[g]) as usize;
             for k in 0..width {
                 slot_weights.extend((g * GROUP..(g + 1) * GROUP).map(|v| {
@@ -148,51 +189,124 @@ impl Smoother {
     /// allocation once large enough). The buffers hold 16-byte [`Vec3A`]s: one SIMD add per
     /// neighbour.
     pub fn smooth(&self, positions: &[Vec3], iterations: usize, step: f32, out: &mut Vec<Vec3A>, tmp: &mut Vec<Vec3A>) {
-        out.clear();
-        out.extend(positions.iter().map(|&p| Vec3A::from(p)));
-        self.smooth_in_place(out, tmp, iterations, step);
+        if positions.len() != self.inv_degree.len() {
+            out.clear();
+            out.extend(positions.iter().map(|&p| Vec3A::from(p)));
+            return;
+        }
+        self.smooth_streamed(positions, iterations, step, out, tmp, |_, _| {});
+        if iterations % 2 == 1 {
+            std::mem::swap(out, tmp);
+        }
+        out.truncate(positions.len());
+        tmp.truncate(positions.len());
     }
 
     /// Smooths `data` in place (`tmp` the second buffer; no allocation once large enough).
     pub fn smooth_in_place(&self, data: &mut Vec<Vec3A>, tmp: &mut Vec<Vec3A>, iterations: usize, step: f32) {
-        tmp.clear();
-        tmp.resize(data.len(), Vec3A::ZERO);
         let n = self.inv_degree.len();
         if n != data.len() || iterations == 0 {
+            tmp.clear();
+            tmp.resize(data.len(), Vec3A::ZERO);
             return;
         }
-        // The sentinel vertex `n` (+0) the padded slots of the groups point at.
         data.push(Vec3A::ZERO);
-        tmp.push(Vec3A::ZERO);
-        // A lag of at least `span`, a multiple of GROUP so that every range starts on a group.
-        let lag = self.span.next_multiple_of(GROUP);
-        // Pass k reads buffer k mod 2 and writes the other; at each step it covers
-        // [end − CHUNK − k·span, end − k·span). It reads pass k − 1's values up to `span`
-        // ahead, which pass k − 1 has just written (it runs `span` ahead), and overwrites
-        // pass k − 2's values behind where pass k − 1 will read again.
-        let total = n + (iterations - 1) * lag;
-        let mut end = 0;
-        while end < total {
-            end += CHUNK;
-            for k in 0..iterations {
-                let hi = end.saturating_sub(k * lag).min(n);
-                let lo = end.saturating_sub(k * lag + CHUNK).min(n);
-                if lo == hi {
-                    continue;
-                }
-                let (src, dst) = if k % 2 == 0 {
-                    (&data[..], &mut tmp[..])
-                } else {
-                    (&tmp[..], &mut data[..])
-                };
-                self.pass(src, dst, lo..hi, step);
-            }
-        }
+        with_sentinel(tmp, n);
+        self.sweep(None, data, tmp, iterations, step, |_, _| {});
         if iterations % 2 == 1 {
             std::mem::swap(data, tmp);
         }
         data.truncate(n);
         tmp.truncate(n);
+    }
+
+    /// Smooths `positions` (`n` points) and hands the result to `done` range by range, in
+    /// order, while it is in cache: `done(s, r)` may read `s` (the smoothed points) at the
+    /// vertices of `r` and at their neighbours. `a` and `b` are the two buffers (resized to
+    /// `n + 1`; no allocation once large enough, and no clearing). Does nothing when
+    /// `positions` does not have `n` points.
+    pub fn smooth_streamed<D: FnMut(&[Vec3A], std::ops::Range<usize>)>(
+        &self,
+        positions: &[Vec3],
+        iterations: usize,
+        step: f32,
+        a: &mut Vec<Vec3A>,
+        b: &mut Vec<Vec3A>,
+        done: D,
+    ) {
+        let n = self.inv_degree.len();
+        if positions.len() != n {
+            return;
+        }
+        with_sentinel(a, n);
+        with_sentinel(b, n);
+        self.sweep(Some(positions), a, b, iterations, step, done);
+    }
+
+    /// The fused sweep over `a` and `b` (`n + 1` points each, the last the `+0` sentinel the
+    /// padded slots of the groups point at). Stage 0 converts `input` into `a` (when given;
+    /// otherwise `a` holds the points), stage `k + 1` is pass `k` (reading `a` for even `k`,
+    /// `b` for odd, writing the other), and the last stage hands finished ranges to `done`.
+    ///
+    /// At each step stage `j` covers `[end − CHUNK − j·lag, end − j·lag)` with `lag` at least
+    /// `span`: pass `k` reads pass `k − 1`'s values up to `span` ahead, which pass `k − 1` has
+    /// just written, and overwrites pass `k − 2`'s values behind where pass `k − 1` will read
+    /// again; `done` reads the last pass's values up to `span` ahead, and no stage writes that
+    /// buffer behind the last pass.
+    fn sweep<D: FnMut(&[Vec3A], std::ops::Range<usize>)>(
+        &self,
+        input: Option<&[Vec3]>,
+        a: &mut [Vec3A],
+        b: &mut [Vec3A],
+        iterations: usize,
+        step: f32,
+        mut done: D,
+    ) {
+        let n = self.inv_degree.len();
+        if a.len() != n + 1 || b.len() != n + 1 || input.is_some_and(|p| p.len() != n) {
+            return;
+        }
+        // A lag of at least `span`, a multiple of GROUP so that every range starts on a group.
+        let lag = self.span.next_multiple_of(GROUP);
+        let stages = iterations + 2;
+        let total = n + (stages - 1) * lag;
+        let mut end = 0;
+        while end < total {
+            end += CHUNK;
+            // What the next step reads first from memory rather than from cache: the input
+            // points stage 0 converts, and the slots of the vertices pass 0 smooths.
+            if let Some(p) = input {
+                prefetch(p.get(end..(end + CHUNK).min(n)).unwrap_or_default());
+            }
+            let next = (end + CHUNK).saturating_sub(lag).min(n) / GROUP;
+            let (g0, g1) = (next.saturating_sub(CHUNK / GROUP), next);
+            if let (Some(&a), Some(&b)) = (self.group_start.get(g0), self.group_start.get(g1)) {
+                prefetch(
+                    self.slots
+                        .get(a as usize * GROUP..b as usize * GROUP)
+                        .unwrap_or_default(),
+                );
+            }
+            for j in 0..stages {
+                let hi = end.saturating_sub(j * lag).min(n);
+                let lo = end.saturating_sub(j * lag + CHUNK).min(n);
+                if lo == hi {
+                    continue;
+                }
+                if j == 0 {
+                    if let Some(p) = input {
+                        for (d, &q) in a[lo..hi].iter_mut().zip(&p[lo..hi]) {
+                            *d = q.into();
+                        }
+                    }
+                } else if j <= iterations {
+                    let (src, dst) = if j % 2 == 1 { (&*a, &mut *b) } else { (&*b, &mut *a) };
+                    self.pass(src, dst, lo..hi, step);
+                } else {
+                    done(if iterations % 2 == 0 { &*a } else { &*b }, lo..hi);
+                }
+            }
+        }
     }
 
     /// One Jacobi pass over the vertices `range`: `dst[v]` from `src` (at least `n` long; with
@@ -216,6 +330,25 @@ impl Smoother {
         let (g0, g1) = (range.start.div_ceil(GROUP), range.end / GROUP);
         if src.len() > n && g0 < g1 && self.group_start.len() == n / GROUP + 1 {
             self.pass_one_by_one::<W>(src, dst, range.start..g0 * GROUP, step);
+            #[cfg(target_arch = "x86_64")]
+            if !W && std::arch::is_x86_feature_detected!("avx2") {
+                // SAFETY: AVX2 was just checked; `src` and `dst` hold `n + 1` points (above
+                // and `pass`) and the groups' slots are byte offsets of points up to `n`
+                // (`Smoother::new`), `g1 ≤ n / GROUP`.
+                unsafe {
+                    super::smooth_avx2::plain_groups(
+                        src,
+                        dst,
+                        &self.slots,
+                        &self.group_start,
+                        &self.inv_degree,
+                        g0..g1,
+                        step,
+                    )
+                };
+                self.pass_one_by_one::<W>(src, dst, g1 * GROUP..range.end, step);
+                return;
+            }
             for g in g0..g1 {
                 self.pass_group::<W>(src, dst, g, step);
             }
@@ -241,15 +374,15 @@ impl Smoother {
             for (slot, ws) in slots.zip(self.slot_weights[a..b].chunks_exact(GROUP)) {
                 for ((s, &u), &w) in sum.iter_mut().zip(slot).zip(ws) {
                     // SAFETY: as below.
-                    *s += unsafe { *src.get_unchecked(u as usize) } * w;
+                    *s += unsafe { at(src, u) } * w;
                 }
             }
         } else {
             for slot in self.slots[a..b].chunks_exact(GROUP) {
                 for (s, &u) in sum.iter_mut().zip(slot) {
-                    // SAFETY: `Smoother::new` fills `slots` with neighbour indices (below `n`)
-                    // and the sentinel `n`; `src` holds `n + 1` points.
-                    *s += unsafe { *src.get_unchecked(u as usize) };
+                    // SAFETY: `Smoother::new` fills `slots` with the byte offsets of neighbours
+                    // (below `n`) and of the sentinel `n`; `src` holds `n + 1` points.
+                    *s += unsafe { at(src, u) };
                 }
             }
         }
@@ -395,12 +528,13 @@ mod tests {
             .all(|(x, y)| x.to_array().map(f32::to_bits) == y.to_array().map(f32::to_bits)));
     }
 
-    /// Plain Jacobi passes over the whole mesh, one after the other.
+    /// Plain Jacobi passes over the whole mesh, one after the other, one vertex at a time
+    /// (the portable loop: the grouped passes, with AVX2 where the CPU has it, must agree).
     fn passes(s: &Smoother, p: &[Vec3], iterations: usize, step: f32) -> Vec<Vec3A> {
         let mut a: Vec<Vec3A> = p.iter().map(|&p| Vec3A::from(p)).collect();
         let mut b = a.clone();
         for _ in 0..iterations {
-            s.pass(&a, &mut b, 0..p.len(), step);
+            s.pass_one_by_one::<false>(&a, &mut b, 0..p.len(), step);
             std::mem::swap(&mut a, &mut b);
         }
         a
@@ -436,12 +570,23 @@ mod tests {
                     let (mut out, mut tmp) = (Vec::new(), Vec::new());
                     s.smooth(&p, iterations, 0.5, &mut out, &mut tmp);
                     let want = passes(&s, &p, iterations, 0.5);
+                    let same = |a: &Vec3A, b: &Vec3A| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits);
                     assert!(
-                        out.iter()
-                            .zip(&want)
-                            .all(|(a, b)| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits)),
+                        out.iter().zip(&want).all(|(a, b)| same(a, b)),
                         "shuffle {shuffle} pin {pin} iterations {iterations}"
                     );
+                    // Streamed: ranges in order, covering every vertex, each handed over when
+                    // its points and its neighbours' are final.
+                    let mut next = 0;
+                    s.smooth_streamed(&p, iterations, 0.5, &mut out, &mut tmp, |sm, r| {
+                        assert_eq!(r.start, next);
+                        next = r.end;
+                        for v in r {
+                            assert!(same(&sm[v], &want[v]), "vertex {v}");
+                            assert!(s.adj.of(v).iter().all(|&u| same(&sm[u as usize], &want[u as usize])));
+                        }
+                    });
+                    assert_eq!(next, n);
                 }
             }
         }
