@@ -241,10 +241,11 @@ fn tail<F: PointMap>(input: &[Vec3], out: &mut [Vec3], first: usize, envelope: f
     }
 }
 
-/// [`dense`] with AVX2: the same operations, with the points transposed to and from one
-/// array per coordinate in registers ([`super::simd`]).
+/// [`dense`] with AVX2 and FMA: the same operations, with the points transposed to and from
+/// one array per coordinate in registers ([`super::simd`]); a kernel's `f32::mul_add` becomes
+/// one fused instruction (the same bits as the portable path's correctly rounded `mul_add`).
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
+#[target_feature(enable = "avx2,fma")]
 unsafe fn dense_avx2<F: PointMap>(input: &[Vec3], out: &mut [Vec3], envelope: f32, f: &F) {
     let n = input.len().min(out.len());
     let (input, out) = (&input[..n], &mut out[..n]);
@@ -267,8 +268,10 @@ unsafe fn dense_avx2<F: PointMap>(input: &[Vec3], out: &mut [Vec3], envelope: f3
 /// `out` must hold a copy of `input` (non-members are left as they are).
 ///
 /// Every vertex active (no weight map, no membership) takes a loop over blocks of
-/// [`LANES`] vertices, compiled a second time with AVX2 and picked at run time on CPUs that
-/// have it (no fused multiply-add either way, so both give the same bits).
+/// [`LANES`] vertices, compiled a second time with AVX2 and FMA and picked at run time on
+/// CPUs that have both. Both give the same bits: a plain multiply and add are never fused
+/// (Rust does not contract them), and a kernel's `f32::mul_add` is correctly rounded either
+/// way (one instruction with FMA; a library call on CPUs without it, slow but only there).
 #[inline(always)]
 pub fn deform_points<F: Fn(usize, Vec3) -> Vec3>(
     input: &[Vec3],
@@ -286,25 +289,52 @@ pub fn deform_map<F: PointMap>(input: &[Vec3], out: &mut [Vec3], m: &Membership,
     match &m.sparse {
         None => {
             #[cfg(target_arch = "x86_64")]
-            if std::arch::is_x86_feature_detected!("avx2") {
-                // SAFETY: `dense_avx2` only requires AVX2, which the CPU was just checked to have.
+            if avx2_fma() {
+                // SAFETY: `dense_avx2` requires AVX2 and FMA, which the CPU was just checked to have.
                 unsafe { dense_avx2(input, out, envelope, f) };
                 return;
             }
             dense(input, out, envelope, f)
         }
         Some((idx, w)) => {
-            for (&v, &w) in idx.iter().zip(w) {
-                let v = v as usize;
-                let (Some(&p), Some(o)) = (input.get(v), out.get_mut(v)) else {
-                    continue;
-                };
-                let k = w * envelope;
-                let d = f.map(v, p);
-                *o = if k == 1.0 { d } else { p + (d - p) * k };
+            #[cfg(target_arch = "x86_64")]
+            if avx2_fma() {
+                // SAFETY: `sparse_fma` requires AVX2 and FMA, which the CPU was just checked to have.
+                unsafe { sparse_fma(input, out, idx, w, envelope, f) };
+                return;
             }
+            sparse(input, out, idx, w, envelope, f)
         }
     }
+}
+
+/// Whether the CPU has AVX2 and FMA (the dense loops' fast versions need both).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+pub fn avx2_fma() -> bool {
+    std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+}
+
+/// The sparse loop: the vertices `idx` at weights `w`, one at a time.
+#[inline(always)]
+fn sparse<F: PointMap>(input: &[Vec3], out: &mut [Vec3], idx: &[u32], w: &[f32], envelope: f32, f: &F) {
+    for (&v, &w) in idx.iter().zip(w) {
+        let v = v as usize;
+        let (Some(&p), Some(o)) = (input.get(v), out.get_mut(v)) else {
+            continue;
+        };
+        let k = w * envelope;
+        let d = f.map(v, p);
+        *o = if k == 1.0 { d } else { p + (d - p) * k };
+    }
+}
+
+/// [`sparse`] compiled with AVX2 and FMA (so a kernel's `f32::mul_add` is one instruction,
+/// not a library call): the same bits.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn sparse_fma<F: PointMap>(input: &[Vec3], out: &mut [Vec3], idx: &[u32], w: &[f32], envelope: f32, f: &F) {
+    sparse(input, out, idx, w, envelope, f)
 }
 
 /// Lanes of coordinates: one array per axis for [`LANES`] vertices.
@@ -334,10 +364,10 @@ fn dense_blocks<B: BlockMap, F: PointMap>(input: &[Vec3], out: &mut [Vec3], enve
     tail(&input[v..], &mut out[v..], v, envelope, f);
 }
 
-/// [`dense_blocks`] with AVX2: the same operations, with the points transposed to and from
-/// the [`Block`] in registers ([`super::simd`]).
+/// [`dense_blocks`] with AVX2 and FMA: the same operations, with the points transposed to and
+/// from the [`Block`] in registers ([`super::simd`]).
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
+#[target_feature(enable = "avx2,fma")]
 unsafe fn dense_blocks_avx2<B: BlockMap, F: PointMap>(
     input: &[Vec3],
     out: &mut [Vec3],
@@ -373,8 +403,8 @@ pub fn deform_blocks<B: BlockMap, F: PointMap>(
         return deform_map(input, out, m, envelope, f);
     }
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: `dense_blocks_avx2` only requires AVX2, which the CPU was just checked to have.
+    if avx2_fma() {
+        // SAFETY: `dense_blocks_avx2` requires AVX2 and FMA, which the CPU was just checked to have.
         unsafe { dense_blocks_avx2(input, out, envelope, block, f) };
         return;
     }
@@ -704,6 +734,40 @@ mod tests {
         let mut out = input;
         deform_points(&input, &mut out, &Membership::default(), 0.5, shift);
         assert_eq!(out[2], Vec3::new(0.0, 1.0, 1.0));
+    }
+
+    #[test]
+    fn fused_kernels_give_the_portable_bits() {
+        // Squash (fused multiply-adds) over 203 points through and beyond its bounds: the
+        // dispatched loops (AVX2+FMA where the CPU has them) against the portable ones, dense
+        // and sparse, envelope 1 and 0.3. Meaningful in optimized builds, where the kernel is
+        // inlined into the FMA loops.
+        use crate::nonlinear::funcs::{PointFn, SquashFn};
+        let squash = SquashFn::new(-1.0, 1.0, 0.5, 1.0, 0.5, 0.2, 0.1);
+        let f = |_: usize, p: Vec3| squash.apply(p);
+        let input: Vec<Vec3> = (0..203)
+            .map(|i| {
+                let a = i as f32 * 0.37;
+                Vec3::new(0.8 * a.cos(), -1.5 + 0.015 * i as f32, 0.6 * a.sin())
+            })
+            .collect();
+        let bits = |v: &[Vec3]| v.iter().map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<_>>();
+        let idx: Vec<u32> = (0..input.len() as u32).step_by(3).collect();
+        let w = vec![0.7; idx.len()];
+        let sparse_m = Membership {
+            sparse: Some((idx.clone(), w.clone())),
+            ..Membership::default()
+        };
+        for envelope in [1.0, 0.3] {
+            let (mut got, mut want) = (input.clone(), input.clone());
+            deform_map(&input, &mut got, &Membership::default(), envelope, &f);
+            dense(&input, &mut want, envelope, &f);
+            assert_eq!(bits(&got), bits(&want), "dense, envelope {envelope}");
+            let (mut got, mut want) = (input.clone(), input.clone());
+            deform_map(&input, &mut got, &sparse_m, envelope, &f);
+            sparse(&input, &mut want, &idx, &w, envelope, &f);
+            assert_eq!(bits(&got), bits(&want), "sparse, envelope {envelope}");
+        }
     }
 
     #[test]

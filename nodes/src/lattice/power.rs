@@ -5,7 +5,10 @@
 //! form is well conditioned), with the map back to object space folded into the coefficients.
 //! A point then costs its window's parameters (one multiply-add per axis) and a nested Horner
 //! evaluation (`S·T·U − 1` multiply-adds per coordinate for a window of `S × T × U` points):
-//! no basis functions, no control-point gathers, no division. The coefficients are computed
+//! no basis functions, no control-point gathers, no division. Every multiply-add is fused
+//! (one rounding: `f32::mul_add` here, `_mm256_fmadd_ps` in the AVX2+FMA path, the same bits);
+//! on a CPU without FMA hardware the portable path's `mul_add` is a correctly rounded library
+//! call (slow, but only that fallback pays it). The coefficients are computed
 //! in `f64` from the control points; the result is the Bernstein evaluation's to float
 //! precision (not bit for bit: a different order of operations).
 //!
@@ -226,10 +229,12 @@ impl PowerLattice {
         let w = [0, 1, 2].map(|a| self.axes[a].window_of(stu[a]));
         let (coeffs, [na, nb, nc], scale, shift) = self.set(w);
         let p = Vec3::new(
-            stu.x * scale[0] + shift[0],
-            stu.y * scale[1] + shift[1],
-            stu.z * scale[2] + shift[2],
+            stu.x.mul_add(scale[0], shift[0]),
+            stu.y.mul_add(scale[1], shift[1]),
+            stu.z.mul_add(scale[2], shift[2]),
         );
+        // `a·s + k` per coordinate, fused.
+        let step = |a: Vec3, s: f32, k: Vec3| Vec3::new(a.x.mul_add(s, k.x), a.y.mul_add(s, k.y), a.z.mul_add(s, k.z));
         let mut z = Vec3::ZERO;
         for c in (0..nc).rev() {
             let mut y = Vec3::ZERO;
@@ -237,11 +242,11 @@ impl PowerLattice {
                 let row = &coeffs[na * (b + nb * c)..na * (b + nb * c + 1)];
                 let mut x = row[na - 1];
                 for &k in row[..na - 1].iter().rev() {
-                    x = x * p.x + k;
+                    x = step(x, p.x, k);
                 }
-                y = if b + 1 == nb { x } else { y * p.y + x };
+                y = if b + 1 == nb { x } else { step(y, p.y, x) };
             }
-            z = if c + 1 == nc { y } else { z * p.z + y };
+            z = if c + 1 == nc { y } else { step(z, p.z, y) };
         }
         z
     }
@@ -254,8 +259,8 @@ impl PowerLattice {
     #[inline(always)]
     pub fn block(&self, to: &Affine, all: bool, b: &mut Block) -> bool {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU was just checked to have AVX2.
+        if crate::deformer::base::avx2_fma() {
+            // SAFETY: the CPU was just checked to have AVX2 and FMA.
             return unsafe { self.block_avx2(to, all, b) };
         }
         let mut stu = [[0.0f32; LANES]; 3];
@@ -277,7 +282,7 @@ impl PowerLattice {
         let mut p = [[0.0f32; LANES]; 3];
         for a in 0..3 {
             for q in 0..LANES {
-                p[a][q] = stu[a][q] * scale[a] + shift[a];
+                p[a][q] = stu[a][q].mul_add(scale[a], shift[a]);
             }
         }
         let r = horner_lanes(coeffs, len, &p);
@@ -291,12 +296,12 @@ impl PowerLattice {
         true
     }
 
-    /// The dense ffd loop (every vertex, weight 1) with AVX2, without the detour through
+    /// The dense ffd loop (every vertex, weight 1) with AVX2 and FMA, without the detour through
     /// [`Block`] arrays: `out[v] = input[v] + (f(input[v]) − input[v]) · envelope` (or
     /// `f(input[v])` at envelope 1), with `f` [`PowerLattice::block`]'s map eight vertices at a
     /// time and `point` (which must be the same map, as the per-point path) for blocks across
     /// local windows and the last vertices. The same bits as `deform_blocks` with those maps.
-    /// False (nothing written) on CPUs without AVX2.
+    /// False (nothing written) on CPUs without AVX2 and FMA.
     pub fn dense(
         &self,
         to: &Affine,
@@ -307,8 +312,8 @@ impl PowerLattice {
         point: &impl Fn(Vec3) -> Vec3,
     ) -> bool {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU was just checked to have AVX2.
+        if crate::deformer::base::avx2_fma() {
+            // SAFETY: the CPU was just checked to have AVX2 and FMA.
             unsafe { self.dense_avx2(to, all, input, out, envelope, point) };
             return true;
         }
@@ -332,7 +337,7 @@ type Lane = [f32; LANES];
 fn horner_lanes(coeffs: &[Vec3], [na, nb, nc]: [usize; 3], p: &[Lane; 3]) -> [Lane; 3] {
     let mul_add = |a: &mut Lane, b: &Lane, k: &Lane| {
         for q in 0..LANES {
-            a[q] = a[q] * b[q] + k[q];
+            a[q] = a[q].mul_add(b[q], k[q]);
         }
     };
     let mut z = [[0.0f32; LANES]; 3];
@@ -464,7 +469,7 @@ mod tests {
                 for envelope in [1.0, 0.3] {
                     let mut out = vec![Vec3::NAN; input.len()];
                     if !power.dense(&to, all, &input, &mut out, envelope, &point) {
-                        println!("skipped: no AVX2 on this CPU");
+                        println!("skipped: no AVX2 and FMA on this CPU");
                         return;
                     }
                     for (o, &p) in out.iter().zip(&input) {

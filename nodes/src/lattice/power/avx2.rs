@@ -1,6 +1,6 @@
-//! The AVX2 evaluation of [`super::PowerLattice`]: eight points per register, the same
-//! operations as the per-point path (a multiply then an add per step, no fused multiply-add),
-//! so the same bits.
+//! The AVX2+FMA evaluation of [`super::PowerLattice`]: eight points per register, the same
+//! operations as the per-point path (each Horner step one fused multiply-add, as `f32::mul_add`
+//! there), so the same bits.
 
 use glam::Vec3;
 
@@ -8,12 +8,12 @@ use super::PowerLattice;
 use crate::deformer::base::{Affine, Block, LANES};
 
 impl PowerLattice {
-    /// [`PowerLattice::block`] with AVX2 (a multiply then an add per step, no fused
-    /// multiply-add: the same bits).
+    /// [`PowerLattice::block`] with AVX2 and FMA (the same fused steps as the portable path:
+    /// the same bits).
     ///
     /// # Safety
-    /// The CPU must support AVX2.
-    #[target_feature(enable = "avx2")]
+    /// The CPU must support AVX2 and FMA ([`avx2_fma`](crate::deformer::base::avx2_fma)).
+    #[target_feature(enable = "avx2,fma")]
     #[inline]
     pub(super) unsafe fn block_avx2(&self, to: &Affine, all: bool, b: &mut Block) -> bool {
         use std::arch::x86_64::*;
@@ -22,7 +22,7 @@ impl PowerLattice {
             _mm256_loadu_ps(b[1].as_ptr()),
             _mm256_loadu_ps(b[2].as_ptr()),
         );
-        let Some(r) = self.eval_avx2(to, all, [x, y, z]) else {
+        let Some(r) = self.eval_avx2(to, all, [x, y, z], &mut [0; 3]) else {
             return false;
         };
         for (lane, r) in b.iter_mut().zip(r) {
@@ -32,17 +32,23 @@ impl PowerLattice {
     }
 
     /// The ffd of 8 object-space points (one register per axis) as [`PowerLattice::block`]
-    /// computes it, or `None` when they are not all in one window triple.
+    /// computes it, or `None` when they are not all in one window triple. `guess` is the window
+    /// triple tried first (the previous block's: neighbouring vertices mostly share windows,
+    /// and a right guess takes the window search off the critical path); it is set to the
+    /// block's windows. The windows found are the same either way (for finite coordinates
+    /// [`super::Axis::holds`] answers as [`super::Axis::window_of`]; a NaN lies in no window of
+    /// an axis with several), so the bits are too.
     ///
     /// # Safety
-    /// The CPU must support AVX2.
-    #[target_feature(enable = "avx2")]
+    /// The CPU must support AVX2 and FMA ([`avx2_fma`](crate::deformer::base::avx2_fma)).
+    #[target_feature(enable = "avx2,fma")]
     #[inline]
     unsafe fn eval_avx2(
         &self,
         to: &Affine,
         all: bool,
         [x, y, z]: [std::arch::x86_64::__m256; 3],
+        guess: &mut [usize; 3],
     ) -> Option<[std::arch::x86_64::__m256; 3]> {
         use std::arch::x86_64::*;
         const _: () = assert!(LANES == 8);
@@ -50,7 +56,7 @@ impl PowerLattice {
         // features, so it would not be inlined.
         macro_rules! step {
             ($a:expr, $b:expr, $k:expr) => {
-                _mm256_add_ps(_mm256_mul_ps($a, $b), $k)
+                _mm256_fmadd_ps($a, $b, $k)
             };
         }
         macro_rules! splat {
@@ -78,22 +84,33 @@ impl PowerLattice {
         let mut w = [0usize; 3];
         for a in 0..3 {
             let axis = &self.axes[a];
-            w[a] = axis.window_of(_mm256_cvtss_f32(stu[a]));
-            if axis.windows() > 1 {
-                // `Axis::holds` lane by lane.
-                let f = _mm256_mul_ps(stu[a], splat!(axis.cells));
-                let mut ok = every;
-                if w[a] > 0 {
-                    let lo = splat!((w[a] * axis.per_window) as f32);
-                    ok = _mm256_and_ps(ok, _mm256_cmp_ps::<_CMP_GE_OQ>(f, lo));
-                }
-                if w[a] + 1 < axis.windows() {
-                    let hi = splat!(((w[a] + 1) * axis.per_window) as f32);
-                    ok = _mm256_and_ps(ok, _mm256_cmp_ps::<_CMP_LT_OQ>(f, hi));
-                }
-                if _mm256_movemask_ps(ok) != 0xff {
+            if axis.windows() == 1 {
+                continue;
+            }
+            // `Axis::holds` lane by lane.
+            let f = _mm256_mul_ps(stu[a], splat!(axis.cells));
+            macro_rules! holds {
+                ($w:expr) => {{
+                    let w: usize = $w;
+                    let mut ok = every;
+                    if w > 0 {
+                        let lo = splat!((w * axis.per_window) as f32);
+                        ok = _mm256_and_ps(ok, _mm256_cmp_ps::<_CMP_GE_OQ>(f, lo));
+                    }
+                    if w + 1 < axis.windows() {
+                        let hi = splat!(((w + 1) * axis.per_window) as f32);
+                        ok = _mm256_and_ps(ok, _mm256_cmp_ps::<_CMP_LT_OQ>(f, hi));
+                    }
+                    _mm256_movemask_ps(ok) == 0xff
+                }};
+            }
+            w[a] = guess[a];
+            if w[a] >= axis.windows() || !holds!(w[a]) {
+                w[a] = axis.window_of(_mm256_cvtss_f32(stu[a]));
+                if !holds!(w[a]) {
                     return None;
                 }
+                guess[a] = w[a];
             }
         }
         let (coeffs, [na, nb, nc], scale, shift) = self.set(w);
@@ -125,11 +142,11 @@ impl PowerLattice {
         ])
     }
 
-    /// [`PowerLattice::dense`] on a CPU with AVX2.
+    /// [`PowerLattice::dense`] on a CPU with AVX2 and FMA.
     ///
     /// # Safety
-    /// The CPU must support AVX2.
-    #[target_feature(enable = "avx2")]
+    /// The CPU must support AVX2 and FMA ([`avx2_fma`](crate::deformer::base::avx2_fma)).
+    #[target_feature(enable = "avx2,fma")]
     pub(super) unsafe fn dense_avx2(
         &self,
         to: &Affine,
@@ -151,12 +168,13 @@ impl PowerLattice {
             }
         };
         let whole = n - n % LANES;
+        let mut guess = [0; 3];
         for (ci, co) in input[..whole]
             .chunks_exact(LANES)
             .zip(out[..whole].chunks_exact_mut(LANES))
         {
             let p = load8(ci);
-            match self.eval_avx2(to, all, p) {
+            match self.eval_avx2(to, all, p, &mut guess) {
                 Some(r) => blend_store8_regs(co, r, p, envelope),
                 None => {
                     for (o, &q) in co.iter_mut().zip(ci) {
@@ -171,13 +189,13 @@ impl PowerLattice {
     }
 }
 
-/// The nested Horner evaluation of [`PowerLattice::point`] for 8 points with AVX2 (a multiply
-/// then an add per step, no fused multiply-add: the same bits). `NA`, `NB`, `NC` are `na`,
+/// The nested Horner evaluation of [`PowerLattice::point`] for 8 points with AVX2 and FMA (one
+/// fused multiply-add per step, as the portable path: the same bits). `NA`, `NB`, `NC` are `na`,
 /// `nb`, `nc` when known at compile time (their loops unrolled), 0 otherwise.
 ///
 /// # Safety
-/// The CPU must support AVX2.
-#[target_feature(enable = "avx2")]
+/// The CPU must support AVX2 and FMA ([`avx2_fma`](crate::deformer::base::avx2_fma)).
+#[target_feature(enable = "avx2,fma")]
 #[inline]
 unsafe fn horner_avx2<const NA: usize, const NB: usize, const NC: usize>(
     coeffs: &[Vec3],
@@ -187,7 +205,7 @@ unsafe fn horner_avx2<const NA: usize, const NB: usize, const NC: usize>(
     use std::arch::x86_64::*;
     macro_rules! step {
         ($a:expr, $b:expr, $k:expr) => {
-            _mm256_add_ps(_mm256_mul_ps($a, $b), $k)
+            _mm256_fmadd_ps($a, $b, $k)
         };
     }
     let na = if NA > 0 { NA } else { na };
