@@ -10,7 +10,7 @@ use std::hash::{Hash, Hasher};
 
 use glam::Vec3;
 use sinew_core::Mesh;
-use sinew_nodes::skeletonize::volume::{curve_graph, VolumeParams};
+use sinew_nodes::skeletonize::volume::curve_graph;
 use sinew_nodes::skeletonize::{bone_heat_weights, shapes, skeletonize, SkeletonizeParams, Template, WeightParams};
 
 /// The meshes: humanoids of several densities, stars, a plus, a torus, separate parts.
@@ -55,15 +55,7 @@ fn main() {
     for (name, mesh) in meshes() {
         let mut h = DefaultHasher::new();
         let params = SkeletonizeParams::default();
-        let vp = VolumeParams {
-            resolution: params.resolution,
-            band: params.band,
-            prune_factor: params.prune_factor,
-            merge_factor: params.merge_factor,
-            smooth_iterations: params.smooth_iterations,
-            min_part_fraction: params.min_part_fraction,
-            symmetry_tolerance: Some(params.symmetry_tolerance),
-        };
+        let vp = params.volume_params(params.resolution);
         let cells = match curve_graph(&mesh, &vp, true) {
             Some((g, report, solid)) => {
                 solid.inside.hash(&mut h);

@@ -13,7 +13,7 @@ use std::time::{Duration, Instant};
 use sinew_nodes::skeletonize::distance::squared_distances;
 use sinew_nodes::skeletonize::levels::{components, level_graph};
 use sinew_nodes::skeletonize::symmetry::detect_mirror;
-use sinew_nodes::skeletonize::volume::{curve_graph, VolumeParams};
+use sinew_nodes::skeletonize::volume::curve_graph;
 use sinew_nodes::skeletonize::voxel::{fill, open_edges, rasterize, voxelize};
 use sinew_nodes::skeletonize::{bone_heat_weights, shapes, skeletonize, SkeletonizeParams, WeightParams};
 
@@ -59,15 +59,7 @@ fn main() {
         }
         return;
     }
-    let vp = VolumeParams {
-        resolution: params.resolution,
-        band: params.band,
-        prune_factor: params.prune_factor,
-        merge_factor: params.merge_factor,
-        smooth_iterations: params.smooth_iterations,
-        min_part_fraction: params.min_part_fraction,
-        symmetry_tolerance: Some(params.symmetry_tolerance),
-    };
+    let vp = params.volume_params(params.resolution);
     let Some(solid) = voxelize(&mesh, params.resolution) else {
         eprintln!("no solid");
         return;

@@ -151,6 +151,22 @@ pub struct SkeletonizeParams {
     pub template: Option<Template>,
 }
 
+impl SkeletonizeParams {
+    /// The volume method's tuning for a grid of `resolution` cells along the longest side
+    /// (the symmetry tolerance only when `symmetry` is on).
+    pub fn volume_params(&self, resolution: usize) -> VolumeParams {
+        VolumeParams {
+            resolution,
+            band: self.band,
+            prune_factor: self.prune_factor,
+            merge_factor: self.merge_factor,
+            smooth_iterations: self.smooth_iterations,
+            min_part_fraction: self.min_part_fraction,
+            symmetry_tolerance: self.symmetry.then_some(self.symmetry_tolerance),
+        }
+    }
+}
+
 impl Default for SkeletonizeParams {
     fn default() -> Self {
         SkeletonizeParams {
@@ -282,15 +298,7 @@ pub fn skeletonize_detailed(mesh: &Mesh, params: &SkeletonizeParams) -> Result<S
             (g, None, fates, None)
         }
         _ => {
-            let vp = VolumeParams {
-                resolution,
-                band: params.band,
-                prune_factor: params.prune_factor,
-                merge_factor: params.merge_factor,
-                smooth_iterations: params.smooth_iterations,
-                min_part_fraction: params.min_part_fraction,
-                symmetry_tolerance: params.symmetry.then_some(params.symmetry_tolerance),
-            };
+            let vp = params.volume_params(resolution);
             let (g, report, _) =
                 curve_graph(mesh, &vp, params.join_parts).ok_or(SkeletonizeError::Degenerate { extent: longest })?;
             let m = report.mirror;
