@@ -225,23 +225,30 @@ pub fn apply(
         return Ok(());
     }
     for (target, &x) in targets.iter().zip(weights) {
-        if !x.is_finite() || x == 0.0 {
-            continue;
-        }
-        let ((_, lo), (_, hi), t) = target.bracket(x);
-        let map = &target.vertex_weights[..];
-        if let Some(d) = target.key_delta(lo) {
-            if t != 1.0 {
-                accumulate(out, d, map, envelope * (1.0 - t));
-            }
-        }
-        if let Some(d) = target.key_delta(hi) {
-            if t != 0.0 {
-                accumulate(out, d, map, envelope * t);
-            }
-        }
+        add_target(out, target, x, envelope);
     }
     Ok(())
+}
+
+/// Adds `target` at weight `x` (its in-betweens interpolated, its weight map applied) scaled
+/// by `envelope` into `out`; a non-finite or zero weight adds nothing. Entries beyond `out`
+/// are skipped. Allocation-free.
+pub fn add_target(out: &mut [Vec3], target: &Target, x: f32, envelope: f32) {
+    if !x.is_finite() || x == 0.0 {
+        return;
+    }
+    let ((_, lo), (_, hi), t) = target.bracket(x);
+    let map = &target.vertex_weights[..];
+    if let Some(d) = target.key_delta(lo) {
+        if t != 1.0 {
+            accumulate(out, d, map, envelope * (1.0 - t));
+        }
+    }
+    if let Some(d) = target.key_delta(hi) {
+        if t != 0.0 {
+            accumulate(out, d, map, envelope * t);
+        }
+    }
 }
 
 #[cfg(test)]

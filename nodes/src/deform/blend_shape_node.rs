@@ -342,10 +342,10 @@ impl BlendShape {
             if let Some(t) = &cache.tangent {
                 t.add(&mesh, w, envelope, &mut out.positions)?;
             }
-            match &cache.transform {
-                Some(t) => t.add(w, envelope, &mut out.positions),
-                None => Ok(()),
+            if let Some(t) = &cache.transform {
+                t.add(w, envelope, &mut out.positions);
             }
+            Ok(())
         })
     }
 }

@@ -19,16 +19,15 @@ use std::cell::RefCell;
 use glam::{DMat4, Mat3, Vec3};
 use sinew_core::ComputeError;
 
-use super::blend_shape::{apply, Target};
+use super::blend_shape::{add_target, Target};
 
-/// One transform-space target: its weight index, the target alone (a one-element list for
-/// [`apply`]) and the vertices it moves.
+/// One transform-space target: its weight index, the target and the vertices it moves.
 #[derive(Clone, Debug, Default)]
 pub struct TransformTarget {
     /// The target's index (its `weight[i]` and `targetMatrix[i]`).
     pub index: u32,
     /// The target, deltas in the transform's space.
-    pub target: Vec<Target>,
+    pub target: Target,
     /// The vertices any of its keys moves (sorted, no repeats).
     pub vertices: Vec<u32>,
 }
@@ -58,7 +57,7 @@ impl TransformTargets {
             vertices.dedup();
             out.push(TransformTarget {
                 index: i,
-                target: vec![t],
+                target: t,
                 vertices,
             });
         }
@@ -82,14 +81,17 @@ impl TransformTargets {
 
     /// Adds the transform-space targets at `weights` (indexed by target, scaled by
     /// `envelope`) to `out`, target `k` through the matrix [`Self::prepare`] read for it on
-    /// this thread. No allocation once the per-thread buffers are large enough.
-    pub fn add(&self, weights: &[f32], envelope: f32, out: &mut [Vec3]) -> Result<(), ComputeError> {
+    /// this thread. Each target costs its own vertices only (its deltas are summed into
+    /// those entries of a per-thread buffer, zeroed there first). No allocation once the
+    /// per-thread buffers are large enough.
+    pub fn add(&self, weights: &[f32], envelope: f32, out: &mut [Vec3]) {
+        if !envelope.is_finite() || envelope == 0.0 {
+            return;
+        }
         let n = out.len();
         SCRATCH.with(|cell| {
             let mut guard = cell.borrow_mut();
             let s = &mut *guard;
-            s.zero.clear();
-            s.zero.resize(n, Vec3::ZERO);
             s.local.resize(n, Vec3::ZERO);
             for (k, t) in self.targets.iter().enumerate() {
                 let w = weights.get(t.index as usize).copied().unwrap_or(0.0);
@@ -99,15 +101,18 @@ impl TransformTargets {
                 if w == 0.0 || !w.is_finite() {
                     continue;
                 }
-                apply(&s.zero, &t.target, &[w], envelope, &mut s.local)
-                    .map_err(|e| ComputeError::new(format!("blendShape: {e}")))?;
+                for &v in &t.vertices {
+                    if let Some(d) = s.local.get_mut(v as usize) {
+                        *d = Vec3::ZERO;
+                    }
+                }
+                add_target(&mut s.local, &t.target, w, envelope);
                 for &v in &t.vertices {
                     if let (Some(&d), Some(o)) = (s.local.get(v as usize), out.get_mut(v as usize)) {
                         *o += l * d;
                     }
                 }
             }
-            Ok(())
         })
     }
 }
@@ -129,7 +134,6 @@ fn linear(i: u32, m: DMat4) -> Result<Mat3, ComputeError> {
 
 #[derive(Default)]
 struct Scratch {
-    zero: Vec<Vec3>,
     local: Vec<Vec3>,
     matrices: Vec<Mat3>,
 }
