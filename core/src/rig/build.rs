@@ -567,7 +567,8 @@ impl<'a> Expander<'a> {
             type_name: n.type_name.clone(),
             kind,
             parent: n.parent.clone(),
-            values: Vec::new(),
+            // One value per field in the usual case (a multi's elements grow it).
+            values: Vec::with_capacity(n.fields.len()),
             value_index: None,
             via: None,
             custom: Vec::new(),
@@ -731,6 +732,7 @@ impl<'a> Expander<'a> {
             flat.nodes.extend(sub.nodes);
             flat.conns.extend(sub.conns);
         }
+        flat.nodes.reserve_exact(body.nodes.len());
         for n in &body.nodes {
             self.created += 1;
             if self.created > self.limits.max_nodes {

@@ -315,7 +315,13 @@ impl Reader<'_> {
                 type_name: ty.clone(),
                 type_span: v.span.clone(),
                 parent: None,
-                fields: Vec::new(),
+                // Exactly the fields kept (every named one but `parent`, when valid).
+                fields: Vec::with_capacity(
+                    items
+                        .iter()
+                        .filter(|i| i.key.as_ref().is_some_and(|(k, _)| k != "parent"))
+                        .count(),
+                ),
             };
             if fseen.capacity() > 64 {
                 fseen = crate::FastMap::default();

@@ -721,6 +721,9 @@ impl<'a> Parser<'a> {
             carry = after.carry;
             if after.ended {
                 self.depth -= 1;
+                // The tree is kept for as long as the document (`sinew fmt` reads its
+                // comments): no spare capacity (a 3-tuple would keep room for 4).
+                out.shrink_to_fit();
                 return Ok(carry);
             }
         }
