@@ -13,7 +13,7 @@ use std::rc::Rc;
 use std::sync::Arc;
 
 use super::diag::{Diagnostic, Diagnostics, Span};
-use super::doc::{read_document, Body, ConnDecl, NodeDecl, RigDocument, SetDecl, UseDecl};
+use super::doc::{read_document_taking, Body, ConnDecl, NodeDecl, RigDocument, SetDecl, UseDecl};
 use super::mirror::{mirror_value, MirrorContext};
 use super::parse::{parse, Ast, Node};
 use super::source::{normalize, FsSource, RigSource};
@@ -245,8 +245,8 @@ impl<'a> Expander<'a> {
         };
         let fpath: Arc<Path> = Arc::from(key.as_path());
         let fd = match parse(&text, &fpath) {
-            Ok(root) => {
-                let doc = read_document(&root, &fpath, &mut self.diags);
+            Ok(mut root) => {
+                let doc = read_document_taking(&mut root, &fpath, &mut self.diags);
                 Ok(Rc::new(FileDoc { path: fpath, doc }))
             }
             Err(d) => {
@@ -1049,8 +1049,9 @@ pub fn load_rig_with_limits(
         deps: vec![key.clone()],
         file_values: Default::default(),
     };
-    let root = parse(text, &fpath).map_err(|d| Diagnostics { errors: vec![d] })?;
-    let doc = read_document(&root, &fpath, &mut exp.diags);
+    let mut root = parse(text, &fpath).map_err(|d| Diagnostics { errors: vec![d] })?;
+    // The tree stays for `sinew fmt`'s comments; the document takes its values.
+    let doc = read_document_taking(&mut root, &fpath, &mut exp.diags);
     let scope = Rc::new(FileDoc {
         path: fpath.clone(),
         doc,

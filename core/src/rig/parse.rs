@@ -93,7 +93,14 @@ impl Node {
 
     /// Whether this node or any node inside it has comments.
     pub fn has_comments(&self) -> bool {
-        self.trivia.as_ref().is_some_and(|t| t.has_comments()) || self.kind.children().any(Node::has_comments)
+        // Walks the containers directly (`children` boxes an iterator per container).
+        self.trivia.as_ref().is_some_and(|t| t.has_comments())
+            || match &self.kind {
+                Ast::List(v) => v.iter().any(Node::has_comments),
+                Ast::Map(v) => v.iter().any(|(k, v)| k.has_comments() || v.has_comments()),
+                Ast::Group { items, .. } => items.iter().any(|i| i.value.has_comments()),
+                _ => false,
+            }
     }
 
     /// Every comment of this node and the nodes inside it, in source order.
