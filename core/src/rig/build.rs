@@ -168,6 +168,8 @@ struct Expander<'a> {
     deps: Vec<PathBuf>,
     /// Values read from `File("...")` references, with the file (see `RigDocument`).
     file_values: std::cell::RefCell<Vec<(Value, PathBuf)>>,
+    /// The node type [`Self::flat_node`] looked up last, by name.
+    last_type: Option<(String, Option<Arc<dyn NodeType>>)>,
 }
 
 fn map_node_part(path: &str, f: &dyn Fn(&str) -> String) -> String {
@@ -552,7 +554,15 @@ impl<'a> Expander<'a> {
     }
 
     fn flat_node(&mut self, n: &NodeDecl) -> FlatNode {
-        let kind = self.registry.get(&n.type_name).cloned();
+        // Nodes come in runs of one type: the registry is asked once per run.
+        let kind = match &self.last_type {
+            Some((t, kind)) if *t == n.type_name => kind.clone(),
+            _ => {
+                let kind = self.registry.get(&n.type_name).cloned();
+                self.last_type = Some((n.type_name.clone(), kind.clone()));
+                kind
+            }
+        };
         if kind.is_none() {
             let hint = match self.registry.suggest(&n.type_name) {
                 Some(s) => format!("did you mean `{s}`? `sinew nodes` lists the available types"),
@@ -1048,6 +1058,7 @@ pub fn load_rig_with_limits(
         hidden: 0,
         deps: vec![key.clone()],
         file_values: Default::default(),
+        last_type: None,
     };
     let mut root = parse(text, &fpath).map_err(|d| Diagnostics { errors: vec![d] })?;
     // The tree stays for `sinew fmt`'s comments; the document takes its values.

@@ -385,8 +385,13 @@ impl Reader<'_> {
                 }
                 fseen.insert(f, fs);
                 if f == "parent" {
-                    if let Some(p) = self.string(value, "parent") {
-                        decl.parent = Some((p, value.span.shifted(1)));
+                    let v = take_field_value(value, f);
+                    match v.kind {
+                        Ast::Str { value: p, .. } => decl.parent = Some((p, v.span.shifted(1))),
+                        _ => {
+                            // Reports the error.
+                            self.string(&v, "parent");
+                        }
                     }
                 } else {
                     decl.fields.push((f.clone(), fs.clone(), take_field_value(value, f)));
