@@ -313,7 +313,8 @@ impl Reader<'_> {
             return Vec::new();
         };
         let mut out: Vec<NodeDecl> = Vec::with_capacity(entries.len());
-        let mut seen: crate::FastMap<&str, &Span> = crate::FastMap::default();
+        let mut seen: crate::FastMap<&str, &Span> =
+            crate::FastMap::with_capacity_and_hasher(entries.len(), Default::default());
         // The fields seen on one node; emptied for the next (kept small: `clear` costs its capacity).
         let mut fseen: crate::FastMap<&str, &Span> = crate::FastMap::default();
         for (k, v) in entries.iter_mut() {
