@@ -122,7 +122,7 @@ pub fn canonical_among(name: &str, names: &[String]) -> Option<String> {
 
 /// Parses a map file: a RON map of source joint name to target node name.
 pub fn parse_map(text: &str, path: &Path) -> Result<Vec<(String, String)>, String> {
-    let file: Arc<Path> = Arc::from(path);
+    let file = Arc::new(path.to_path_buf());
     let root =
         parse(text, &file).map_err(|d| format!("{}:{}:{}: {}", path.display(), d.span.line, d.span.col, d.message))?;
     let Ast::Map(entries) = root.kind else {

@@ -192,7 +192,7 @@ impl Session {
             Err(e) => {
                 self.load_errors = Some(Diagnostics {
                     errors: vec![sinew_core::Diagnostic::new(
-                        sinew_core::rig::Span::new(&Arc::from(self.path.as_path()), 1, 1),
+                        sinew_core::rig::Span::new(&Arc::new(self.path.clone()), 1, 1),
                         format!("cannot compile the rig: {e}"),
                     )],
                 });

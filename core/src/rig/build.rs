@@ -124,7 +124,7 @@ impl Flat {
 }
 
 struct FileDoc {
-    path: Arc<Path>,
+    path: Arc<PathBuf>,
     doc: RigDocument,
 }
 
@@ -159,7 +159,7 @@ struct Expander<'a> {
     /// The node limit was passed: expansion stops.
     over_limit: bool,
     /// The root rig's path and text (given to the loader, not read through `source`).
-    root: (Arc<Path>, &'a str),
+    root: (Arc<PathBuf>, &'a str),
     diags: Diagnostics,
     /// Files read: the document, or the index of the error that reading it gave.
     files: HashMap<PathBuf, Result<Rc<FileDoc>, usize>>,
@@ -245,7 +245,7 @@ impl<'a> Expander<'a> {
                 return r;
             }
         };
-        let fpath: Arc<Path> = Arc::from(key.as_path());
+        let fpath: Arc<PathBuf> = Arc::new(key.clone());
         let fd = match parse(&text, &fpath) {
             Ok(mut root) => {
                 let doc = read_document_taking(&mut root, &fpath, &mut self.diags);
@@ -768,7 +768,7 @@ impl<'a> Expander<'a> {
         self.over_limit = true;
         let chain: Vec<&str> = stack.iter().map(|(l, _)| l.as_str()).collect();
         let at = stack.last().map(|(_, s)| s.clone()).unwrap_or_else(|| {
-            let p: Arc<Path> = Arc::from(Path::new(""));
+            let p: Arc<PathBuf> = Arc::new(PathBuf::new());
             Span::new(&p, 1, 1)
         });
         let mut d = Diagnostic::new(
@@ -1011,7 +1011,7 @@ impl std::fmt::Debug for LoadedRig {
 /// Loads the rig file at `path`.
 pub fn load_rig(path: &Path, registry: &Arc<Registry>) -> Result<LoadedRig, Diagnostics> {
     let key = normalize(path);
-    let span = Span::new(&Arc::from(key.as_path()), 1, 1);
+    let span = Span::new(&Arc::new(key.clone()), 1, 1);
     match FsSource.read(&key) {
         Ok(text) => load_rig_with(&text, &key, registry, &FsSource),
         Err(e) => Err(Diagnostics {
@@ -1045,7 +1045,7 @@ pub fn load_rig_with_limits(
     limits: LoadLimits,
 ) -> Result<LoadedRig, Diagnostics> {
     let key = normalize(virtual_path);
-    let fpath: Arc<Path> = Arc::from(key.as_path());
+    let fpath: Arc<PathBuf> = Arc::new(key.clone());
     let mut exp = Expander {
         registry,
         source,

@@ -2,7 +2,7 @@
 //! rig file, and list where each comment is attached. Used by the core's tests and the
 //! facade's tests over `graphs/` (public for them; not part of the rig API).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use super::parse::{parse, Ast, Node};
@@ -109,7 +109,7 @@ pub fn with_line_comments(text: &str) -> String {
 /// Every comment of a parsed file in source order, with the entry it is attached to
 /// (a path of keys and positions from the root) and how (`lead`, `trail`, `end`).
 pub fn attachments(text: &str) -> Result<Vec<(String, &'static str, String)>, String> {
-    let root = parse(text, &Arc::from(Path::new("check.ron"))).map_err(|d| d.render())?;
+    let root = parse(text, &Arc::new(PathBuf::from("check.ron"))).map_err(|d| d.render())?;
     let mut out = Vec::new();
     walk(&root, "", &mut out);
     Ok(out)
@@ -242,7 +242,7 @@ pub fn check_fmt_with_taken_values(text: &str, path: &Path, registry: &Arc<Regis
             continue;
         };
         let taken = super::save_rig(&rig.graph, &rig.document);
-        let file: Arc<Path> = Arc::from(path);
+        let file: Arc<PathBuf> = Arc::new(path.to_path_buf());
         rig.document.syntax = Some(parse(t, &file).expect("variant parses"));
         let whole = super::save_rig(&rig.graph, &rig.document);
         assert_eq!(

@@ -9,7 +9,7 @@ use std::sync::Arc;
 #[derive(Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct Span {
     /// The file (as given to the loader, joined with component paths).
-    pub file: Arc<Path>,
+    pub file: Arc<PathBuf>,
     /// 1-based line.
     pub line: u32,
     /// 1-based column, in characters.
@@ -18,7 +18,7 @@ pub struct Span {
 
 impl Span {
     /// A span at `line:col` of `file`.
-    pub fn new(file: &Arc<Path>, line: u32, col: u32) -> Self {
+    pub fn new(file: &Arc<PathBuf>, line: u32, col: u32) -> Self {
         Span {
             file: file.clone(),
             line,

@@ -6,7 +6,7 @@
 //! error. [`print_document`] writes a document back as canonical text.
 
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::Arc;
 
 use super::diag::{Diagnostic, Diagnostics, Span};
@@ -121,7 +121,7 @@ pub struct ComponentDef {
 #[derive(Clone, Debug, Default)]
 pub struct RigDocument {
     /// The file the document was read from.
-    pub path: Option<Arc<Path>>,
+    pub path: Option<Arc<PathBuf>>,
     /// `name: "arm"`.
     pub name: Option<String>,
     /// `fps: 24.0`.
@@ -629,7 +629,7 @@ fn take_field_value(value: &mut Node, field: &str) -> Node {
 
 /// Reads a parsed rig file into a document, adding structural errors to `diags`. The
 /// tree is left as it is (see [`read_document_taking`]).
-pub fn read_document(root: &Node, path: &Arc<Path>, diags: &mut Diagnostics) -> RigDocument {
+pub fn read_document(root: &Node, path: &Arc<PathBuf>, diags: &mut Diagnostics) -> RigDocument {
     read_document_taking(&mut root.clone(), path, diags)
 }
 
@@ -638,7 +638,7 @@ pub fn read_document(root: &Node, path: &Arc<Path>, diags: &mut Diagnostics) -> 
 /// and `attrs: {..}`, are copied). The tree still carries over every comment of the file
 /// when `sinew fmt` prints the document ([`super::save_rig`]), but no longer reads back
 /// as the same document.
-pub fn read_document_taking(root: &mut Node, path: &Arc<Path>, diags: &mut Diagnostics) -> RigDocument {
+pub fn read_document_taking(root: &mut Node, path: &Arc<PathBuf>, diags: &mut Diagnostics) -> RigDocument {
     let mut doc = RigDocument {
         path: Some(path.clone()),
         ..Default::default()

@@ -100,7 +100,7 @@ pub fn rig_dependencies(path: &Path) -> Vec<PathBuf> {
         }
         out.push(p.clone());
         let Ok(text) = FsSource.read(&p) else { continue };
-        let fpath: Arc<Path> = Arc::from(p.as_path());
+        let fpath: Arc<PathBuf> = Arc::new(p.clone());
         let Ok(mut root) = parse::parse(&text, &fpath) else {
             continue;
         };

@@ -16,7 +16,7 @@
 //! attributes) lead the root; comments after it trail it. Entry trivia is stored on the
 //! entry's value node (for a map entry, on the value, not the key).
 
-use std::path::Path;
+use std::path::PathBuf;
 use std::sync::Arc;
 
 use super::diag::{Diagnostic, Span};
@@ -220,7 +220,7 @@ impl Ast {
 
 /// Parses a whole file: optional `#![..]` attributes, one value, then only whitespace
 /// and comments.
-pub fn parse(text: &str, file: &Arc<Path>) -> Result<Node, Diagnostic> {
+pub fn parse(text: &str, file: &Arc<PathBuf>) -> Result<Node, Diagnostic> {
     let mut p = Parser {
         text,
         pos: 0,
@@ -273,7 +273,7 @@ struct Parser<'a> {
     pos: usize,
     line: u32,
     col: u32,
-    file: Arc<Path>,
+    file: Arc<PathBuf>,
     depth: usize,
     /// Comments read since they were last taken.
     pending: Vec<Comment>,
@@ -831,7 +831,7 @@ mod tests {
     use super::*;
 
     fn p(s: &str) -> Result<Node, Diagnostic> {
-        parse(s, &Arc::from(Path::new("t.ron")))
+        parse(s, &Arc::new(PathBuf::from("t.ron")))
     }
 
     #[test]
@@ -844,6 +844,15 @@ mod tests {
         let t = items[0].value.kind.tuple_items().unwrap();
         assert_eq!(t[1].kind, Ast::Float(-25.0));
         assert_eq!(items[1].value.span.line, 3);
+    }
+
+    #[test]
+    fn spans_and_nodes_stay_small() {
+        // A loaded 100,000-joint chain holds some 18 spans and 10 nodes per joint (syntax
+        // tree, document, flat list): a span is a thin file handle and a position.
+        assert_eq!(std::mem::size_of::<Span>(), 16);
+        assert!(std::mem::size_of::<Node>() <= 80, "{}", std::mem::size_of::<Node>());
+        assert!(std::mem::size_of::<Item>() <= 120, "{}", std::mem::size_of::<Item>());
     }
 
     #[test]

@@ -111,7 +111,7 @@ fn plug_path(node: &str, a: &AttrSpec, index: Option<u32>, comp: Option<usize>) 
 fn value_ast(doc: &RigDocument, v: &Value, a: &AttrSpec) -> Ast {
     if v.attr_type().is_heavy() {
         if let Some((_, file)) = doc.file_values.iter().find(|(loaded, _)| loaded.same_bits(v)) {
-            let base = doc.path.as_deref().and_then(Path::parent).unwrap_or(Path::new(""));
+            let base = doc.path.as_deref().and_then(|p| p.parent()).unwrap_or(Path::new(""));
             let value = synth(Ast::Str {
                 value: relative_path(file, base),
                 exact: false,
@@ -398,7 +398,7 @@ impl Ids for GraphIds<'_> {
 /// over ([`fmt_comments`](super::fmt_comments)); `text` itself if it does not parse
 /// (it always does: it is what the printer wrote).
 fn with_comments(text: &str, orig: &Node, graph: &Graph) -> String {
-    let file: std::sync::Arc<Path> = std::sync::Arc::from(Path::new("canonical.ron"));
+    let file = std::sync::Arc::new(std::path::PathBuf::from("canonical.ron"));
     let Ok(mut tree) = super::parse::parse(text, &file) else {
         return text.to_string();
     };

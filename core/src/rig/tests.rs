@@ -121,7 +121,7 @@ fn invalid_fixtures_report_expected_errors() {
             let found = diags.errors.iter().find(|d| {
                 d.span.line == line
                     && d.span.col == col
-                    && d.span.file.as_ref() == normalize(&want_file)
+                    && **d.span.file == normalize(&want_file)
                     && d.message.contains(msg)
                     && d.hint.as_deref().unwrap_or("").contains(hint.as_str())
                     && notes.iter().all(|n| {

@@ -108,7 +108,7 @@ fn from_ron(v: &ron::Value) -> Common {
 
 /// Both parsers on `text`: agree on accept/reject, and on the value when accepted.
 fn agree(text: &str) -> Result<(), String> {
-    let file: Arc<Path> = Arc::from(Path::new("gen.ron"));
+    let file: Arc<PathBuf> = Arc::new(PathBuf::from("gen.ron"));
     let ours = parse(text, &file);
     let theirs = ron::from_str::<ron::Value>(text);
     match (ours, theirs) {
@@ -234,7 +234,7 @@ fn listed_divergences_are_read_as_ron_reads_them() {
     // The other direction: sinew no longer accepts any `#` line at the top.
     for bad in ["# a comment\nRig()", "#!enable(x)\nRig()", "#![enable(no_such)] Rig()"] {
         assert!(ron::from_str::<ron::Value>(bad).is_err(), "{bad:?}");
-        assert!(parse(bad, &Arc::from(Path::new("t.ron"))).is_err(), "{bad:?}");
+        assert!(parse(bad, &Arc::new(PathBuf::from("t.ron"))).is_err(), "{bad:?}");
     }
 }
 
@@ -242,7 +242,7 @@ fn listed_divergences_are_read_as_ron_reads_them() {
 /// printed bare.
 #[test]
 fn invisible_characters_are_named_in_errors() {
-    let e = parse("Rig(name: \u{200B}\"a\")", &Arc::from(Path::new("t.ron"))).expect_err("zero width space");
+    let e = parse("Rig(name: \u{200B}\"a\")", &Arc::new(PathBuf::from("t.ron"))).expect_err("zero width space");
     assert!(e.message.contains("U+200B"), "{}", e.message);
     assert!(!e.message.contains('\u{200B}'));
 }

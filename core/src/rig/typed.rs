@@ -326,7 +326,7 @@ pub fn read_value(n: &Node, ty: AttrType, attr: Option<&AttrSpec>, what: &str) -
 pub(super) fn synth(kind: Ast) -> Node {
     Node::new(
         Span {
-            file: Arc::from(std::path::Path::new("")),
+            file: Arc::new(std::path::PathBuf::new()),
             line: 0,
             col: 0,
         },
@@ -487,7 +487,7 @@ pub fn parse_plug_value(graph: &crate::graph::Graph, plug: crate::graph::Plug, t
     let ty = graph.plug_type(plug).map_err(|e| e.to_string())?;
     let spec = graph.node_spec(plug.node).ok_or("stale node")?;
     let attr = (plug.component.is_none()).then(|| spec.attr(plug.attr));
-    let file: Arc<std::path::Path> = Arc::from(std::path::Path::new("<value>"));
+    let file = Arc::new(std::path::PathBuf::from("<value>"));
     let node = super::parse::parse(text, &file).map_err(|d| format!("cannot parse {text:?}: {}", d.message))?;
     read_value(&node, ty, attr, &graph.plug_name(plug)).map_err(|d| match d.hint {
         Some(h) => format!("{} ({h})", d.message),

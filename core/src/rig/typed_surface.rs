@@ -120,14 +120,13 @@ pub(super) fn write_surface(s: &Surface) -> Ast {
 
 #[cfg(test)]
 mod tests {
-    use std::path::Path;
 
     use super::super::parse::parse;
     use super::super::typed::{read_value, write_value};
     use super::*;
 
     fn read(text: &str) -> Result<Value, Diagnostic> {
-        let n = parse(text, &Arc::from(Path::new("mem.ron"))).expect("parses");
+        let n = parse(text, &Arc::new(std::path::PathBuf::from("mem.ron"))).expect("parses");
         read_value(&n, AttrType::Surface, None, "s.create")
     }
 
