@@ -271,33 +271,39 @@ impl<'a> Expander<'a> {
             Some(map) => map.get(&(attr, index)).copied(),
             None => node.values.iter().position(|v| (v.attr, v.index) == (attr, index)),
         };
-        let k = match found {
-            Some(k) => k,
-            None => {
-                node.values.push(FlatVal {
-                    attr,
-                    index,
-                    value: spec.attr(attr).default.clone(),
-                    span: span.clone(),
-                });
-                let k = node.values.len() - 1;
-                match &mut node.value_index {
-                    Some(map) => {
-                        map.insert((attr, index), k);
-                    }
-                    None if node.values.len() > VALUE_SCAN => {
-                        let map = node
-                            .values
-                            .iter()
-                            .enumerate()
-                            .map(|(k, v)| ((v.attr, v.index), k))
-                            .collect();
-                        node.value_index = Some(Box::new(map));
-                    }
-                    None => {}
+        let Some(k) = found else {
+            // A new entry: the value as given, or for one component the default with it.
+            let mut value = value;
+            if let Some(c) = comp {
+                let mut whole = spec.attr(attr).default.clone();
+                if let (Value::Vec3(v), Some(x)) = (&mut whole, value.as_f64()) {
+                    v[c as usize] = x;
+                    value = whole;
                 }
-                k
             }
+            node.values.push(FlatVal {
+                attr,
+                index,
+                value,
+                span,
+            });
+            let k = node.values.len() - 1;
+            match &mut node.value_index {
+                Some(map) => {
+                    map.insert((attr, index), k);
+                }
+                None if node.values.len() > VALUE_SCAN => {
+                    let map = node
+                        .values
+                        .iter()
+                        .enumerate()
+                        .map(|(k, v)| ((v.attr, v.index), k))
+                        .collect();
+                    node.value_index = Some(Box::new(map));
+                }
+                None => {}
+            }
+            return;
         };
         let e = &mut node.values[k];
         match (comp, &mut e.value, value.as_f64()) {
@@ -598,13 +604,14 @@ impl<'a> Expander<'a> {
             // string (a node or plug name) or a named struct other than `File(..)`
             // (`curve: curveFromPoints(..)`), the attribute otherwise (`twist: 30` vs
             // `twist: "ctrl.twist"`).
-            let shadowed = node.kind.as_ref().is_some_and(|k| k.spec().find(f).is_some());
             let authoring_value = match &v.kind {
                 Ast::Str { .. } => true,
                 Ast::Group { name: Some(n), .. } => n != "File",
                 _ => false,
             };
-            if authoring.contains(&f.as_str()) && (!shadowed || authoring_value) {
+            // (Whether an attribute shares the name is asked of authoring fields only.)
+            let shadowed = || node.kind.as_ref().is_some_and(|k| k.spec().find(f).is_some());
+            if authoring.contains(&f.as_str()) && (authoring_value || !shadowed()) {
                 node.authoring.push((f.clone(), fs.clone(), v.clone()));
             } else if f != "attrs" {
                 self.field(&mut node, f, fs, v);
