@@ -353,11 +353,10 @@ impl Graph {
 
     /// Existing element indices of an attribute (`[0]` for single attributes).
     pub fn elements(&self, node: NodeId, attr: AttrId) -> Vec<u32> {
-        self.nodes
-            .get(node)
-            .and_then(|n| n.attrs.get(attr.index()))
-            .map(|a| a.elems.iter().map(|e| e.index).collect())
-            .unwrap_or_default()
+        let Some((n, a)) = self.nodes.get(node).and_then(|n| Some((n, n.attrs.get(attr.index())?))) else {
+            return Vec::new();
+        };
+        a.view(n.spec().attr(attr)).as_slice().iter().map(|e| e.index).collect()
     }
 
     pub(crate) fn bump(&mut self) -> u64 {

@@ -244,10 +244,9 @@ pub(super) fn build_graph(
     // Positions in the topological order by the node-level graph of parents and
     // connections, so that parenting and connecting mostly go forward in it and cost
     // nothing, whatever order the file lists its nodes in.
-    let parent_edges = flat.nodes.iter().zip(&ids).filter_map(|(n, id)| {
-        let (child, (p, _)) = ((*id)?, n.parent.as_ref()?);
-        Some((g.find_node(p)?, child))
-    });
+    // Each node's parent, looked up once (a name lookup in a large graph is a cache miss).
+    let parents: Vec<Option<NodeId>> = flat.nodes.iter().map(|n| g.find_node(&n.parent.as_ref()?.0)).collect();
+    let parent_edges = ids.iter().zip(&parents).filter_map(|(id, p)| Some(((*p)?, (*id)?)));
     let conn_edges = resolved
         .iter()
         .filter_map(|(s, d)| Some((s.as_ref()?.node, d.as_ref()?.node)));
@@ -276,7 +275,7 @@ pub(super) fn build_graph(
         if quiet.broken.contains(p.as_str()) {
             continue;
         }
-        let Some(pid) = g.find_node(p) else {
+        let Some(pid) = parents[k] else {
             if quiet.opaque {
                 *quiet.hidden += 1;
                 continue;
