@@ -181,6 +181,13 @@ impl Graph {
         }
     }
 
+    /// Makes room for `additional` more nodes (their table and their names), so that
+    /// adding them does not grow and rehash the tables step by step.
+    pub fn reserve_nodes(&mut self, additional: usize) {
+        self.nodes.reserve(additional);
+        self.names.reserve(additional);
+    }
+
     /// The registry the graph's node types come from.
     pub fn registry(&self) -> &Arc<Registry> {
         &self.registry
