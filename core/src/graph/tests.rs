@@ -518,3 +518,18 @@ fn single_attributes_store_their_element_late() {
     inst.evaluate(Time::default()).unwrap();
     assert_eq!(inst.get(&handle).as_f64(), Some(2.0));
 }
+
+/// `node_plug` finds the same plugs as `plug` on a node at hand, and its errors name the
+/// whole path.
+#[test]
+fn node_plug_matches_plug_paths() {
+    let mut g = graph();
+    let a = g.add_node("add", "a").unwrap();
+    assert_eq!(g.node_plug(a, "input2").unwrap(), g.plug("a.input2").unwrap());
+    let e = g.node_plug(a, "input9").unwrap_err().to_string();
+    assert!(e.contains("input9") && e.contains("add"), "{e}");
+    let e = g.node_plug(a, "input2[").unwrap_err().to_string();
+    assert!(e.contains("a.input2["), "{e}");
+    let e = g.node_plug(a, "input2[0]").unwrap_err().to_string();
+    assert!(e.contains("a.input2[0]") && e.contains("not a multi"), "{e}");
+}
