@@ -325,7 +325,7 @@ impl Graph {
                 "the parent is the child itself or one of its descendants".into(),
             ));
         }
-        let mut new_links: smallvec::SmallVec<[(Plug, Plug); 4]> = smallvec::smallvec![(
+        let mut new_links = vec![(
             Plug::new(parent, pdag.world_matrix),
             Plug::new(child, cdag.parent_matrix),
         )];
