@@ -31,7 +31,15 @@ pub fn load(path: &Path, registry: &Arc<Registry>) -> Result<LoadedRig, String> 
 /// The one-line summary `sinew check` prints for a valid rig.
 pub fn summary(path: &Path, rig: &LoadedRig) -> String {
     let g = &rig.graph;
-    let types: BTreeSet<&str> = g.nodes().into_iter().filter_map(|n| g.node_type(n)).collect();
+    let mut types: BTreeSet<&str> = BTreeSet::new();
+    // Nodes come in runs of one type: each run is inserted once.
+    let mut last = None;
+    for t in g.nodes().into_iter().filter_map(|n| g.node_type(n)) {
+        if last != Some(t) {
+            types.insert(t);
+            last = Some(t);
+        }
+    }
     format!(
         "{}: ok: {} nodes, {} connections, node types: {}",
         path.display(),

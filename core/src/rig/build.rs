@@ -13,7 +13,7 @@ use std::rc::Rc;
 use std::sync::Arc;
 
 use super::diag::{Diagnostic, Diagnostics, Span};
-use super::doc::{read_document, Body, ConnDecl, NodeDecl, RigDocument, SetDecl, UseDecl};
+use super::doc::{read_document_taking, Body, ConnDecl, NodeDecl, RigDocument, SetDecl, UseDecl};
 use super::mirror::{mirror_value, MirrorContext};
 use super::parse::{parse, Ast, Node};
 use super::source::{normalize, FsSource, RigSource};
@@ -168,6 +168,8 @@ struct Expander<'a> {
     deps: Vec<PathBuf>,
     /// Values read from `File("...")` references, with the file (see `RigDocument`).
     file_values: std::cell::RefCell<Vec<(Value, PathBuf)>>,
+    /// The node type [`Self::flat_node`] looked up last, by name.
+    last_type: Option<(String, Option<Arc<dyn NodeType>>)>,
 }
 
 fn map_node_part(path: &str, f: &dyn Fn(&str) -> String) -> String {
@@ -245,8 +247,8 @@ impl<'a> Expander<'a> {
         };
         let fpath: Arc<Path> = Arc::from(key.as_path());
         let fd = match parse(&text, &fpath) {
-            Ok(root) => {
-                let doc = read_document(&root, &fpath, &mut self.diags);
+            Ok(mut root) => {
+                let doc = read_document_taking(&mut root, &fpath, &mut self.diags);
                 Ok(Rc::new(FileDoc { path: fpath, doc }))
             }
             Err(d) => {
@@ -552,7 +554,15 @@ impl<'a> Expander<'a> {
     }
 
     fn flat_node(&mut self, n: &NodeDecl) -> FlatNode {
-        let kind = self.registry.get(&n.type_name).cloned();
+        // Nodes come in runs of one type: the registry is asked once per run.
+        let kind = match &self.last_type {
+            Some((t, kind)) if *t == n.type_name => kind.clone(),
+            _ => {
+                let kind = self.registry.get(&n.type_name).cloned();
+                self.last_type = Some((n.type_name.clone(), kind.clone()));
+                kind
+            }
+        };
         if kind.is_none() {
             let hint = match self.registry.suggest(&n.type_name) {
                 Some(s) => format!("did you mean `{s}`? `sinew nodes` lists the available types"),
@@ -567,7 +577,8 @@ impl<'a> Expander<'a> {
             type_name: n.type_name.clone(),
             kind,
             parent: n.parent.clone(),
-            values: Vec::new(),
+            // One value per field in the usual case (a multi's elements grow it).
+            values: Vec::with_capacity(n.fields.len()),
             value_index: None,
             via: None,
             custom: Vec::new(),
@@ -731,6 +742,7 @@ impl<'a> Expander<'a> {
             flat.nodes.extend(sub.nodes);
             flat.conns.extend(sub.conns);
         }
+        flat.nodes.reserve_exact(body.nodes.len());
         for n in &body.nodes {
             self.created += 1;
             if self.created > self.limits.max_nodes {
@@ -1046,9 +1058,11 @@ pub fn load_rig_with_limits(
         hidden: 0,
         deps: vec![key.clone()],
         file_values: Default::default(),
+        last_type: None,
     };
-    let root = parse(text, &fpath).map_err(|d| Diagnostics { errors: vec![d] })?;
-    let doc = read_document(&root, &fpath, &mut exp.diags);
+    let mut root = parse(text, &fpath).map_err(|d| Diagnostics { errors: vec![d] })?;
+    // The tree stays for `sinew fmt`'s comments; the document takes its values.
+    let doc = read_document_taking(&mut root, &fpath, &mut exp.diags);
     let scope = Rc::new(FileDoc {
         path: fpath.clone(),
         doc,

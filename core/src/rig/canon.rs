@@ -61,8 +61,18 @@ fn long_sets<'s>(sets: &mut [SetDecl], spec_of: &dyn Fn(&str) -> Option<&'s Node
 /// Rewrites a body's field names, connections and overrides; `outside` gives the
 /// node types of names the body does not define.
 fn long_body<'s>(body: &mut Body, registry: &'s Registry, outside: &dyn Fn(&str) -> Option<&'s NodeSpec>) {
+    // Nodes come in runs of one type: the last type's spec is looked up once per run.
+    let mut last: Option<(String, Option<&'s NodeSpec>)> = None;
+    let mut spec_of_type = |ty: &str| match &last {
+        Some((t, spec)) if t == ty => *spec,
+        _ => {
+            let spec = registry.spec(ty);
+            last = Some((ty.to_string(), spec));
+            spec
+        }
+    };
     for n in &mut body.nodes {
-        let Some(spec) = registry.spec(&n.type_name) else {
+        let Some(spec) = spec_of_type(&n.type_name) else {
             continue;
         };
         for (f, _, _) in &mut n.fields {
@@ -71,10 +81,14 @@ fn long_body<'s>(body: &mut Body, registry: &'s Registry, outside: &dyn Fn(&str)
             }
         }
     }
+    if body.connections.is_empty() && body.set.is_empty() && body.uses.is_empty() {
+        // Nothing names a node's attributes by path.
+        return;
+    }
     let local: FastMap<&str, &'s NodeSpec> = body
         .nodes
         .iter()
-        .filter_map(|n| Some((n.name.as_str(), registry.spec(&n.type_name)?)))
+        .filter_map(|n| Some((n.name.as_str(), spec_of_type(&n.type_name)?)))
         .collect();
     let spec_of = |name: &str| local.get(name).copied().or_else(|| outside(name));
     for c in &mut body.connections {

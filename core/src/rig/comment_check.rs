@@ -77,6 +77,24 @@ pub fn with_block_comments(text: &str) -> String {
     out
 }
 
+/// `text` with a block comment `/*cN*/` at every `step`-th gap between tokens, starting
+/// with gap `phase`: values with comments next to values without.
+pub fn with_some_block_comments(text: &str, step: usize, phase: usize) -> String {
+    let mut out = String::new();
+    let mut last = 0;
+    for (n, g) in gaps(text)
+        .into_iter()
+        .enumerate()
+        .filter(|(n, _)| n % step.max(1) == phase)
+    {
+        out.push_str(&text[last..g]);
+        out.push_str(&format!("/*c{n}*/"));
+        last = g;
+    }
+    out.push_str(&text[last..]);
+    out
+}
+
 /// `text` with a line comment `// lN` at the end of every line and a comment line
 /// `// oN` before every line.
 pub fn with_line_comments(text: &str) -> String {
@@ -198,4 +216,41 @@ pub fn check_written_with_comments(text: &str, path: &Path, registry: &Arc<Regis
             path.display()
         );
     }
+}
+
+/// The loader's document takes the values of node fields out of the syntax tree it keeps
+/// for `sinew fmt` (see [`super::doc::read_document_taking`]): formatting must give the
+/// same text as with the tree as parsed. Checked on `text` as written, with a line
+/// comment on every line, and with block comments at every third gap (each phase), so
+/// values with and without comments sit side by side. Returns false (checking nothing)
+/// when `text` does not load.
+pub fn check_fmt_with_taken_values(text: &str, path: &Path, registry: &Arc<Registry>) -> bool {
+    if load_rig_str(text, path, registry).is_err() {
+        return false;
+    }
+    let variants = [
+        text.to_string(),
+        with_line_comments(text),
+        with_some_block_comments(text, 3, 0),
+        with_some_block_comments(text, 3, 1),
+        with_some_block_comments(text, 3, 2),
+    ];
+    for (k, t) in variants.iter().enumerate() {
+        // A comment between `r` and the quote of a raw string breaks it: such a variant
+        // does not load and has nothing to compare.
+        let Ok(mut rig) = load_rig_str(t, path, registry) else {
+            continue;
+        };
+        let taken = super::save_rig(&rig.graph, &rig.document);
+        let file: Arc<Path> = Arc::from(path);
+        rig.document.syntax = Some(parse(t, &file).expect("variant parses"));
+        let whole = super::save_rig(&rig.graph, &rig.document);
+        assert_eq!(
+            taken,
+            whole,
+            "{} (variant {k}): fmt depends on the values taken out of the tree",
+            path.display()
+        );
+    }
+    true
 }

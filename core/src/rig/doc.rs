@@ -211,7 +211,24 @@ impl Reader<'_> {
         }
     }
 
+    /// The fields of struct `n` (reporting unknown, unnamed and repeated ones), with
+    /// their values.
     fn fields<'n>(&mut self, n: &'n Node, allowed: &[&str], what: &str) -> Vec<(&'n str, &'n Span, &'n Node)> {
+        let valid = self.field_indices(n, allowed, what);
+        let Ast::Group { items, .. } = &n.kind else {
+            return Vec::new();
+        };
+        valid
+            .into_iter()
+            .filter_map(|i| {
+                let (k, ks) = items[i].key.as_ref()?;
+                Some((k.as_str(), ks, &items[i].value))
+            })
+            .collect()
+    }
+
+    /// The valid fields of struct `n`, by their index among its items (see [`Self::fields`]).
+    fn field_indices(&mut self, n: &Node, allowed: &[&str], what: &str) -> Vec<usize> {
         let mut out = Vec::new();
         let items: &[Item] = match &n.kind {
             Ast::Group { items, .. } => items,
@@ -225,7 +242,7 @@ impl Reader<'_> {
             }
         };
         let mut seen: HashMap<&str, &Span> = HashMap::new();
-        for it in items {
+        for (i, it) in items.iter().enumerate() {
             let Some((k, ks)) = &it.key else {
                 self.err(
                     &it.value.span,
@@ -251,15 +268,26 @@ impl Reader<'_> {
                 continue;
             }
             seen.insert(k, ks);
-            out.push((k.as_str(), ks, &it.value));
+            out.push(i);
         }
         out
     }
 
-    fn body(&mut self, fields: &[(&str, &Span, &Node)]) -> Body {
+    /// The body fields `fields` (from [`Self::field_indices`]) of struct `n`.
+    fn body(&mut self, n: &mut Node, fields: &[usize]) -> Body {
         let mut b = Body::default();
-        for &(k, _, v) in fields {
-            match k {
+        let Ast::Group { items, .. } = &mut n.kind else {
+            return b;
+        };
+        for &i in fields {
+            let Item {
+                key: Some((k, _)),
+                value: v,
+            } = &mut items[i]
+            else {
+                continue;
+            };
+            match k.as_str() {
                 "nodes" => b.nodes = self.nodes(v),
                 "connections" => b.connections = self.connections(v),
                 "uses" => b.uses = self.uses(v),
@@ -270,20 +298,27 @@ impl Reader<'_> {
         b
     }
 
-    fn nodes(&mut self, n: &Node) -> Vec<NodeDecl> {
-        let Ast::Map(entries) = &n.kind else {
+    /// The nodes of map `n`; field values move from the tree into the document (see
+    /// [`take_field_value`]).
+    fn nodes(&mut self, n: &mut Node) -> Vec<NodeDecl> {
+        if !matches!(n.kind, Ast::Map(_)) {
             self.err(
                 &n.span,
                 format!("`nodes` must be a map, found {}", n.kind.describe()),
                 "write nodes as { \"name\": type(attribute: value, ..), .. }",
             );
             return Vec::new();
+        }
+        let Ast::Map(entries) = &mut n.kind else {
+            return Vec::new();
         };
         let mut out: Vec<NodeDecl> = Vec::with_capacity(entries.len());
-        let mut seen: crate::FastMap<&str, &Span> = crate::FastMap::default();
+        let mut seen: crate::FastMap<&str, &Span> =
+            crate::FastMap::with_capacity_and_hasher(entries.len(), Default::default());
         // The fields seen on one node; emptied for the next (kept small: `clear` costs its capacity).
         let mut fseen: crate::FastMap<&str, &Span> = crate::FastMap::default();
-        for (k, v) in entries {
+        for (k, v) in entries.iter_mut() {
+            let k: &Node = k;
             let Some(name) = k.kind.as_str() else {
                 self.err(
                     &k.span,
@@ -301,30 +336,41 @@ impl Reader<'_> {
                 continue;
             }
             seen.insert(name, &k.span);
-            let Ast::Group { name: Some(ty), items } = &v.kind else {
+            if !matches!(v.kind, Ast::Group { name: Some(_), .. }) {
                 self.err(
                     &v.span,
                     format!("node `{name}` needs a type, found {}", v.kind.describe()),
                     "write the node as type(attribute: value, ..), e.g. joint(translate: (0.0, 1.0, 0.0))",
                 );
                 continue;
+            }
+            let type_span = v.span.clone();
+            let Ast::Group { name: Some(ty), items } = &mut v.kind else {
+                continue;
             };
             let mut decl = NodeDecl {
                 name: name.to_string(),
                 name_span: k.span.clone(),
                 type_name: ty.clone(),
-                type_span: v.span.clone(),
+                type_span,
                 parent: None,
-                fields: Vec::new(),
+                // Exactly the fields kept (every named one but `parent`, when valid).
+                fields: Vec::with_capacity(
+                    items
+                        .iter()
+                        .filter(|i| i.key.as_ref().is_some_and(|(k, _)| k != "parent"))
+                        .count(),
+                ),
             };
             if fseen.capacity() > 64 {
                 fseen = crate::FastMap::default();
             }
             fseen.clear();
-            for it in items {
-                let Some((f, fs)) = &it.key else {
+            for it in items.iter_mut() {
+                let Item { key, value } = it;
+                let Some((f, fs)) = &*key else {
                     self.err(
-                        &it.value.span,
+                        &value.span,
                         "node attributes need a name",
                         "write attribute: value, e.g. translate: (0.0, 1.0, 0.0)",
                     );
@@ -340,11 +386,16 @@ impl Reader<'_> {
                 }
                 fseen.insert(f, fs);
                 if f == "parent" {
-                    if let Some(p) = self.string(&it.value, "parent") {
-                        decl.parent = Some((p, it.value.span.shifted(1)));
+                    let v = take_field_value(value, f);
+                    match v.kind {
+                        Ast::Str { value: p, .. } => decl.parent = Some((p, v.span.shifted(1))),
+                        _ => {
+                            // Reports the error.
+                            self.string(&v, "parent");
+                        }
                     }
                 } else {
-                    decl.fields.push((f.clone(), fs.clone(), it.value.clone()));
+                    decl.fields.push((f.clone(), fs.clone(), take_field_value(value, f)));
                 }
             }
             out.push(decl);
@@ -559,8 +610,35 @@ impl Reader<'_> {
     }
 }
 
-/// Reads a parsed rig file into a document, adding structural errors to `diags`.
+/// A node field's value for the document. The tree keeps what `sinew fmt` reads of it
+/// ([`super::fmt_comments`]): a value with no comment inside or around it is only asked
+/// whether it has comments, so it moves out of the tree, leaving `false` (with its span
+/// and blank-line trivia) in its place; `attrs: {..}` (whose entries fmt matches one by
+/// one) and values with comments are copied.
+fn take_field_value(value: &mut Node, field: &str) -> Node {
+    if field == "attrs" || value.has_comments() {
+        return value.clone();
+    }
+    let stays = Node {
+        span: value.span.clone(),
+        kind: Ast::Bool(false),
+        trivia: value.trivia.take(),
+    };
+    std::mem::replace(value, stays)
+}
+
+/// Reads a parsed rig file into a document, adding structural errors to `diags`. The
+/// tree is left as it is (see [`read_document_taking`]).
 pub fn read_document(root: &Node, path: &Arc<Path>, diags: &mut Diagnostics) -> RigDocument {
+    read_document_taking(&mut root.clone(), path, diags)
+}
+
+/// [`read_document`] that moves the values of node fields out of the tree instead of
+/// copying them, leaving in their place `false` at the same span (a value with comments,
+/// and `attrs: {..}`, are copied). The tree still carries over every comment of the file
+/// when `sinew fmt` prints the document ([`super::save_rig`]), but no longer reads back
+/// as the same document.
+pub fn read_document_taking(root: &mut Node, path: &Arc<Path>, diags: &mut Diagnostics) -> RigDocument {
     let mut doc = RigDocument {
         path: Some(path.clone()),
         ..Default::default()
@@ -575,9 +653,19 @@ pub fn read_document(root: &Node, path: &Arc<Path>, diags: &mut Diagnostics) -> 
             );
         }
     }
-    let fields = r.fields(root, &RIG_FIELDS, "Rig");
-    for &(k, _, v) in &fields {
-        match k {
+    let fields = r.field_indices(root, &RIG_FIELDS, "Rig");
+    let Ast::Group { items, .. } = &mut root.kind else {
+        return doc;
+    };
+    for &i in &fields {
+        let Item {
+            key: Some((k, _)),
+            value: v,
+        } = &mut items[i]
+        else {
+            continue;
+        };
+        match k.as_str() {
             "name" => doc.name = r.string(v, "name"),
             "fps" => match v.kind.as_f64() {
                 Some(x) if x > 0.0 => doc.fps = Some(x),
@@ -601,15 +689,18 @@ pub fn read_document(root: &Node, path: &Arc<Path>, diags: &mut Diagnostics) -> 
                 ),
             },
             "components" => {
-                let Ast::Map(entries) = &v.kind else {
+                if !matches!(v.kind, Ast::Map(_)) {
                     r.err(
                         &v.span,
                         format!("`components` must be a map, found {}", v.kind.describe()),
                         "write components as { \"leg\": (nodes: {..}, connections: [..]) }",
                     );
                     continue;
+                }
+                let Ast::Map(entries) = &mut v.kind else {
+                    continue;
                 };
-                for (ck, cv) in entries {
+                for (ck, cv) in entries.iter_mut() {
                     let Some(name) = r.string(ck, "a component name") else {
                         continue;
                     };
@@ -622,8 +713,8 @@ pub fn read_document(root: &Node, path: &Arc<Path>, diags: &mut Diagnostics) -> 
                         );
                         continue;
                     }
-                    let cf = r.fields(cv, &BODY_FIELDS, "a component");
-                    let body = r.body(&cf);
+                    let cf = r.field_indices(cv, &BODY_FIELDS, "a component");
+                    let body = r.body(cv, &cf);
                     doc.components.push(ComponentDef {
                         name,
                         span: ck.span.clone(),
@@ -634,6 +725,6 @@ pub fn read_document(root: &Node, path: &Arc<Path>, diags: &mut Diagnostics) -> 
             _ => {}
         }
     }
-    doc.body = r.body(&fields);
+    doc.body = r.body(root, &fields);
     doc
 }

@@ -216,7 +216,11 @@ fn integer(body: &str, negative: bool) -> Result<(Number, usize), LexError> {
     ];
     let value = if negative { -(mag as i128) } else { mag as i128 };
     let used = prefix + len;
-    if let Some(&(suffix, lo, hi)) = suffixes.iter().find(|(sfx, ..)| word_at(rest, sfx)) {
+    let suffix = match rest.as_bytes().first() {
+        Some(b'i' | b'u') => suffixes.iter().find(|(sfx, ..)| word_at(rest, sfx)),
+        _ => None,
+    };
+    if let Some(&(suffix, lo, hi)) = suffix {
         if value < lo || value > hi || (negative && mag != 0 && lo == 0) {
             // Past the suffix, as RON's cursor: no float reading gets that far.
             return fail(

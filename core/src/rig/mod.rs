@@ -101,11 +101,11 @@ pub fn rig_dependencies(path: &Path) -> Vec<PathBuf> {
         out.push(p.clone());
         let Ok(text) = FsSource.read(&p) else { continue };
         let fpath: Arc<Path> = Arc::from(p.as_path());
-        let Ok(root) = parse::parse(&text, &fpath) else {
+        let Ok(mut root) = parse::parse(&text, &fpath) else {
             continue;
         };
         let mut diags = Diagnostics::default();
-        let doc = doc::read_document(&root, &fpath, &mut diags);
+        let doc = doc::read_document_taking(&mut root, &fpath, &mut diags);
         let dir = p.parent().unwrap_or(Path::new("")).to_path_buf();
         let bodies = std::iter::once(&doc.body).chain(doc.components.iter().map(|c| &c.body));
         for b in bodies {

@@ -93,7 +93,14 @@ impl Node {
 
     /// Whether this node or any node inside it has comments.
     pub fn has_comments(&self) -> bool {
-        self.trivia.as_ref().is_some_and(|t| t.has_comments()) || self.kind.children().any(Node::has_comments)
+        // Walks the containers directly (`children` boxes an iterator per container).
+        self.trivia.as_ref().is_some_and(|t| t.has_comments())
+            || match &self.kind {
+                Ast::List(v) => v.iter().any(Node::has_comments),
+                Ast::Map(v) => v.iter().any(|(k, v)| k.has_comments() || v.has_comments()),
+                Ast::Group { items, .. } => items.iter().any(|i| i.value.has_comments()),
+                _ => false,
+            }
     }
 
     /// Every comment of this node and the nodes inside it, in source order.
@@ -305,11 +312,12 @@ impl<'a> Parser<'a> {
     /// Moves over `bytes` bytes of text (counting lines and columns).
     fn advance(&mut self, bytes: usize) {
         let end = (self.pos + bytes).min(self.text.len());
-        for c in self.text[self.pos..end].chars() {
-            if c == '\n' {
+        // Columns count characters: every byte but UTF-8 continuation bytes starts one.
+        for &b in &self.text.as_bytes()[self.pos..end] {
+            if b == b'\n' {
                 self.line += 1;
                 self.col = 1;
-            } else {
+            } else if b & 0xC0 != 0x80 {
                 self.col += 1;
             }
         }
@@ -364,6 +372,19 @@ impl<'a> Parser<'a> {
     /// Skips whitespace, collecting comments into `pending`.
     fn skip_ws(&mut self) -> PResult<()> {
         loop {
+            // ASCII whitespace byte by byte; the rest of RON's whitespace and comments below.
+            while let Some(&b) = self.text.as_bytes().get(self.pos) {
+                match b {
+                    b'\n' => {
+                        self.nl += 1;
+                        self.line += 1;
+                        self.col = 1;
+                    }
+                    b' ' | b'\t' | b'\r' | 0x0B | 0x0C => self.col += 1,
+                    _ => break,
+                }
+                self.pos += 1;
+            }
             let rest = self.rest();
             match rest.chars().next() {
                 Some(c) if lex::is_whitespace(c) => {
@@ -721,6 +742,9 @@ impl<'a> Parser<'a> {
             carry = after.carry;
             if after.ended {
                 self.depth -= 1;
+                // The tree is kept for as long as the document (`sinew fmt` reads its
+                // comments): no spare capacity (a 3-tuple would keep room for 4).
+                out.shrink_to_fit();
                 return Ok(carry);
             }
         }

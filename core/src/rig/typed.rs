@@ -72,7 +72,11 @@ pub(super) fn number(n: &Node, what: &str) -> Result<f64, Diagnostic> {
 }
 
 pub(super) fn numbers<const N: usize>(n: &Node, what: &str, ty: AttrType) -> Result<[f64; N], Diagnostic> {
-    let items = n.kind.tuple_items().ok_or_else(|| wrong(n, what, ty, None))?;
+    // The items of an unnamed tuple (as `Ast::tuple_items`, without collecting them).
+    let items = match &n.kind {
+        Ast::Group { name: None, items } if items.iter().all(|i| i.key.is_none()) => items,
+        _ => return Err(wrong(n, what, ty, None)),
+    };
     if items.len() != N {
         return Err(Diagnostic::new(
             n.span.clone(),
@@ -81,7 +85,7 @@ pub(super) fn numbers<const N: usize>(n: &Node, what: &str, ty: AttrType) -> Res
         .hint(format!("write {ty} like {}", example(ty, None))));
     }
     let mut out = [0.0; N];
-    for (k, (o, it)) in out.iter_mut().zip(items).enumerate() {
+    for (k, (o, it)) in out.iter_mut().zip(items.iter().map(|i| &i.value)).enumerate() {
         *o = it.kind.as_f64().ok_or_else(|| {
             non_finite(it, what).unwrap_or_else(|| {
                 Diagnostic::new(
