@@ -10,7 +10,7 @@ use std::sync::Arc;
 
 use crate::custom::CustomAffects;
 use crate::error::{ComputeError, InputError};
-use crate::graph::store::AttrStore;
+use crate::graph::store::{AttrStore, Elem};
 pub use crate::inactive::KnownInputs;
 use crate::kernel::ScalarKernel;
 use crate::mat_kernel::MatrixKernel;
@@ -171,6 +171,19 @@ pub(crate) struct LazyIo<'a> {
     pub spec: &'a NodeSpec,
 }
 
+impl LazyIo<'_> {
+    /// Element `k` of an attribute to write, a single attribute's element stored now if
+    /// it was not yet (graph/store.rs); `None` past the end of a multi (nothing reads it).
+    fn elem_mut(&mut self, id: AttrId, k: usize) -> Option<&mut Elem> {
+        let a = self.spec.attrs.get(id.index())?;
+        let store = self.attrs.get_mut(id.index())?;
+        if k == 0 && !a.multi {
+            store.ensure(0, || a.default.clone());
+        }
+        store.elems.get_mut(k)
+    }
+}
+
 /// Bindings for a context that is not compiled (none: every access takes the slow path).
 static NO_TABLES: CompiledTables = CompiledTables::EMPTY;
 
@@ -270,7 +283,14 @@ impl<'a> ComputeContext<'a> {
 
     fn read_elem(&self, id: AttrId, k: usize) -> Option<Value> {
         match &self.lazy {
-            Some(io) => io.attrs.get(id.index())?.elems.get(k).map(|e| e.value.clone()),
+            Some(io) => match io.attrs.get(id.index())?.elems.get(k) {
+                Some(e) => Some(e.value.clone()),
+                // A single attribute's element is stored once something is (graph/store.rs).
+                None => {
+                    let a = io.spec.attrs.get(id.index())?;
+                    (k == 0 && !a.multi).then(|| a.default.clone())
+                }
+            },
             None => Some(self.tables.resolve(self.slots, self.compiled_elem(id, k)?.binding)),
         }
     }
@@ -467,13 +487,14 @@ impl<'a> ComputeContext<'a> {
                 if io.spec.group_of(id) != Some(group) {
                     return;
                 }
-                if let Some(e) = io.attrs.get_mut(id.index()).and_then(|a| a.elems.get_mut(k)) {
+                let revision = io.revision;
+                if let Some(e) = io.elem_mut(id, k) {
                     let mut v_new = e.value.clone();
                     v.write_into(&mut v_new);
                     let v = v_new;
                     if !e.value.same_bits(&v) {
                         e.value = v;
-                        e.changed_at = io.revision;
+                        e.changed_at = revision;
                     }
                 }
             }
@@ -537,8 +558,9 @@ impl<'a> ComputeContext<'a> {
         }
         let slot: &mut Value = match &mut self.lazy {
             Some(io) => {
-                let e = io.attrs.get_mut(id.index())?.elems.get_mut(0)?;
-                e.changed_at = io.revision;
+                let revision = io.revision;
+                let e = io.elem_mut(id, 0)?;
+                e.changed_at = revision;
                 &mut e.value
             }
             None => {

@@ -18,7 +18,6 @@ pub struct PlugPath<'a> {
     pub child: Option<&'a str>,
 }
 
-/// Splits a plug path into its parts; the error says what is malformed.
 /// The path of a plug as text: `node.attr`, `node.attr[index]`, and for a component the
 /// child's name (`node.translateX`, `node.attr[index].translateX`, or `.x`/`.y`/`.z` for an
 /// attribute without named children).
@@ -37,6 +36,7 @@ pub fn plug_path_text(node: &str, a: &AttrSpec, index: Option<u32>, component: O
     s
 }
 
+/// Splits a plug path into its parts; the error says what is malformed.
 pub fn parse_plug_path(path: &str) -> Result<PlugPath<'_>, String> {
     let (node, rest) = path
         .split_once('.')
@@ -44,6 +44,12 @@ pub fn parse_plug_path(path: &str) -> Result<PlugPath<'_>, String> {
     if node.is_empty() {
         return Err("the node name is empty".into());
     }
+    parse_attr_path(node, rest)
+}
+
+/// The parts of `rest`, what follows `node.` in a plug path (`attr`, `attrX`, `attr[3]`,
+/// `attr[3].child`), with `node` as the node name; the error says what is malformed.
+pub fn parse_attr_path<'a>(node: &'a str, rest: &'a str) -> Result<PlugPath<'a>, String> {
     let (attr_part, child) = match rest.find(']') {
         Some(close) => {
             let after = &rest[close + 1..];

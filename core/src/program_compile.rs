@@ -146,13 +146,11 @@ impl<'g> Compiler<'g> {
     /// The dense index of the element `plug` names, if it exists.
     fn element(&self, plug: Plug) -> Option<usize> {
         let ni = *self.position.get(plug.node)? as usize;
-        let k = self
-            .graph
-            .nodes
-            .get(plug.node)?
+        let data = self.graph.nodes.get(plug.node)?;
+        let k = data
             .attrs
             .get(plug.attr.index())?
-            .find(plug.elem())?;
+            .position(plug.elem(), data.spec().attrs.get(plug.attr.index())?)?;
         let attr = *self.attr_base.get(ni)? as usize + plug.attr.index();
         Some(*self.elem_base.get(attr)? as usize + k)
     }
@@ -171,12 +169,15 @@ impl<'g> Compiler<'g> {
                 plug.elem()
             ))
         };
-        let k = store.find(plug.elem()).ok_or_else(missing)?;
+        let view = store.view(data.spec().attr(plug.attr));
+        let k = store
+            .position(plug.elem(), data.spec().attr(plug.attr))
+            .ok_or_else(missing)?;
         let key = self.element(plug).ok_or_else(missing)?;
         let whole = if let Some(b) = self.resolved[key] {
             b
         } else {
-            let e = &store.elems[k];
+            let e = &view.as_slice()[k];
             let b = if self.outputs[key] != NO_SLOT {
                 Binding::Slot(self.outputs[key])
             } else if let Some(src) = e.source() {
@@ -231,8 +232,9 @@ impl<'g> Compiler<'g> {
             let spec = d.spec();
             for (a, store) in d.attrs.iter().enumerate() {
                 let output = spec.attrs[a].direction == Direction::Output;
-                elements += store.elems.len();
-                for e in store.elems.iter().filter(|e| output || e.source().is_none()) {
+                let view = store.view(&spec.attrs[a]);
+                elements += view.as_slice().len();
+                for e in view.as_slice().iter().filter(|e| output || e.source().is_none()) {
                     counts[Class::of(&e.value) as usize] += 1;
                 }
             }
@@ -250,7 +252,7 @@ impl<'g> Compiler<'g> {
                 let attr = AttrId(a as u16);
                 let aspec = spec.attr(attr);
                 self.elem_base.push(self.own.len() as u32);
-                for e in &store.elems {
+                for e in store.view(aspec).as_slice() {
                     let (mut own, mut output) = (NO_SLOT, NO_SLOT);
                     if aspec.direction == Direction::Output {
                         let group = spec.group_of(attr).unwrap_or(0);
@@ -274,7 +276,7 @@ impl<'g> Compiler<'g> {
             for (a, store) in data.attrs.iter().enumerate() {
                 let first = elems.len() as u32;
                 let multi = spec.attrs[a].multi;
-                for e in &store.elems {
+                for e in store.view(&spec.attrs[a]).as_slice() {
                     let plug = Plug::element(id, AttrId(a as u16), multi, e.index);
                     let binding = self.binding_of(plug, 0)?;
                     elems.push(ElemBinding {

@@ -25,7 +25,7 @@ use std::sync::Arc;
 
 use sinew_core::rig::doc::{print_ast, quote};
 use sinew_core::rig::typed::write_value;
-use sinew_core::{Graph, Registry, Value};
+use sinew_core::{Graph, NodeId, Registry, Value};
 
 /// An attribute value: one value, or the elements `0..n` of a multi attribute.
 #[derive(Clone, Debug)]
@@ -170,6 +170,8 @@ impl RigBuilder {
     /// Builds the graph directly (what loading the written files gives).
     pub fn to_graph(&self, registry: &Arc<Registry>) -> Result<Graph, String> {
         let mut g = Graph::new(registry.clone());
+        g.reserve_nodes(self.nodes.len());
+        let mut ids = Vec::with_capacity(self.nodes.len());
         for n in &self.nodes {
             let id = g
                 .add_node(&n.type_name, &n.name)
@@ -178,26 +180,43 @@ impl RigBuilder {
                 g.add_attr(id, a.clone())
                     .map_err(|e| format!("node {}: custom attribute {}: {e}", n.name, a.name))?;
             }
+            ids.push(id);
         }
-        for n in &self.nodes {
+        // Plugs found on the node at hand (looking each path's node up by name, and a new
+        // string per value, were most of the time here).
+        let mut path = String::new();
+        let mut set = |g: &mut Graph, id: NodeId, name: &str, attr: &str, index: Option<usize>, v: &Value| {
+            let plug = match index {
+                Some(k) => {
+                    path.clear();
+                    write!(path, "{attr}[{k}]").map_err(|e| e.to_string())?;
+                    g.node_plug(id, &path)
+                }
+                None => g.node_plug(id, attr),
+            };
+            plug.and_then(|p| g.set(p, v.clone()))
+                .map_err(|e| format!("{name}.{attr}: {e}"))
+        };
+        for (n, &id) in self.nodes.iter().zip(&ids) {
             if let Some(p) = &n.parent {
-                let (c, p) = (g.node_id(&n.name), g.node_id(p));
-                let (c, p) = (c.map_err(|e| e.to_string())?, p.map_err(|e| e.to_string())?);
-                g.set_parent(c, Some(p))
+                let p = g.node_id(p).map_err(|e| e.to_string())?;
+                g.set_parent(id, Some(p))
                     .map_err(|e| format!("parent of {}: {e}", n.name))?;
             }
             for (attr, v) in &n.values {
                 match v {
-                    AttrVal::One(v) => g.set_path(&format!("{}.{attr}", n.name), v.clone()),
-                    AttrVal::Multi(vs) => vs
-                        .iter()
-                        .enumerate()
-                        .try_for_each(|(k, v)| g.set_path(&format!("{}.{attr}[{k}]", n.name), v.clone())),
-                    AttrVal::Sparse(vs) => vs
-                        .iter()
-                        .try_for_each(|(k, v)| g.set_path(&format!("{}.{attr}[{k}]", n.name), v.clone())),
+                    AttrVal::One(v) => set(&mut g, id, &n.name, attr, None, v)?,
+                    AttrVal::Multi(vs) => {
+                        for (k, v) in vs.iter().enumerate() {
+                            set(&mut g, id, &n.name, attr, Some(k), v)?;
+                        }
+                    }
+                    AttrVal::Sparse(vs) => {
+                        for (k, v) in vs {
+                            set(&mut g, id, &n.name, attr, Some(*k as usize), v)?;
+                        }
+                    }
                 }
-                .map_err(|e| format!("{}.{attr}: {e}", n.name))?;
             }
         }
         for (s, d) in &self.connections {

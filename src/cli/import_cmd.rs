@@ -26,7 +26,8 @@ pub struct ImportFlags<'a> {
     pub strict: bool,
 }
 
-/// Runs `sinew import`; returns the summary to print.
+/// Runs `sinew import`; returns the summary to print. Meant for a process that ends after
+/// it: the graph built to check the rig is left to the exit to free.
 pub fn import(model: &Path, out: &Path, flags: &ImportFlags<'_>, registry: &Arc<Registry>) -> Result<String, String> {
     let ImportFlags { animation, fps, .. } = *flags;
     super::paths::check_rig_output(&[model], out)?;
@@ -52,9 +53,12 @@ pub fn import(model: &Path, out: &Path, flags: &ImportFlags<'_>, registry: &Arc<
                 strict: flags.strict,
             };
             let imp = import_maya_file(model, registry, &opts).map_err(|e| e.to_string())?;
-            imp.rig
+            let check = imp
+                .rig
                 .to_graph(registry)
                 .map_err(|e| format!("internal error: the imported rig does not build: {e}"))?;
+            // Freed at the process's exit: dropping a large graph piece by piece is slow.
+            std::mem::forget(check);
             let data = imp.rig.write(registry, out)?;
             return Ok(format!(
                 "{} -> {} (data: {})\n{}",
@@ -92,8 +96,11 @@ pub fn import(model: &Path, out: &Path, flags: &ImportFlags<'_>, registry: &Arc<
         }
     };
     // Check that what we write loads back before writing it.
-    rig.to_graph(registry)
+    let check = rig
+        .to_graph(registry)
         .map_err(|e| format!("internal error: the imported rig does not build: {e}"))?;
+    // Freed at the process's exit: dropping a large graph piece by piece is slow.
+    std::mem::forget(check);
     let data = rig.write(registry, out)?;
     let mut msg = format!(
         "{}: {} nodes, {} connections -> {} (data: {})",
@@ -106,5 +113,6 @@ pub fn import(model: &Path, out: &Path, flags: &ImportFlags<'_>, registry: &Arc<
     for w in warnings {
         msg.push_str(&format!("\nwarning: {w}"));
     }
+    std::mem::forget(rig);
     Ok(msg)
 }

@@ -30,9 +30,9 @@ impl Graph {
             }
             for (a, store) in data.attrs.iter().enumerate() {
                 let multi = spec.attrs[a].multi;
-                if !multi && (store.elems.len() != 1 || store.elems[0].index != 0) {
+                if !multi && (store.elems.len() > 1 || store.elems.first().is_some_and(|e| e.index != 0)) {
                     return Err(format!(
-                        "{}.{} must have exactly element 0",
+                        "{}.{} must have no element but 0",
                         data.name, spec.attrs[a].name
                     ));
                 }

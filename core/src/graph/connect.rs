@@ -82,11 +82,14 @@ impl Graph {
     /// Adds the connection to both ends' bookkeeping (no checks).
     pub(crate) fn link(&mut self, src: Plug, dst: Plug) {
         let rev = self.bump();
-        let src_default = self.nodes[src.node].spec().attr(src.attr).default.clone();
+        let src_attr = self.nodes[src.node].spec().attr(src.attr);
+        let (src_default, src_multi) = (src_attr.default.clone(), src_attr.multi);
         let src_created = self.nodes[src.node].attrs[src.attr.index()]
             .ensure(src.elem(), || src_default)
             .1;
-        if src_created {
+        // A single attribute's element is only stored late (store.rs): it holds the value
+        // any compute gave it (an absent one was never written), so nothing is recomputed.
+        if src_created && src_multi {
             // A new output element must be filled by its node's next compute. The group
             // becomes dirty through its outputs like any other change, so everything
             // downstream of it is dirty too (setting the flag alone would leave clean groups
@@ -108,7 +111,7 @@ impl Graph {
             .find(src.elem())
             .unwrap_or(0);
         if let Some(e) = self.nodes[src.node].attrs[src.attr.index()].elems.get_mut(k) {
-            e.links_mut().dests.push(dst);
+            e.links_mut().add_dest(dst);
         }
         let dst_data = &mut self.nodes[dst.node];
         let default = dst_data.spec().attr(dst.attr).default.clone();
@@ -118,7 +121,7 @@ impl Graph {
         match dst.component {
             None => e.links_mut().source = Some(src),
             Some(c) => {
-                e.links_mut().comp_sources.get_or_insert([None; 3])[c as usize] = Some(src);
+                e.links_mut().comp_sources.get_or_insert_with(|| Box::new([None; 3]))[c as usize] = Some(src);
             }
         }
         e.changed_at = rev;
@@ -266,19 +269,22 @@ impl Graph {
     /// change on a DAG cycle or when those inputs are driven by something else.
     pub fn set_parent(&mut self, child: NodeId, parent: Option<NodeId>) -> Result<()> {
         let cd = self.data(child)?;
-        let child_name = cd.name.clone();
-        let parent_label = parent.and_then(|p| self.node_name(p)).unwrap_or("-").to_string();
+        // The names, for errors only (no allocation when parenting succeeds).
+        let bad = |g: &Self, reason: String| Error::BadParent {
+            child: g.node_name(child).unwrap_or("-").to_string(),
+            parent: parent.and_then(|p| g.node_name(p)).unwrap_or("-").to_string(),
+            reason,
+        };
         // The node types (cheap to clone), whose specs outlive the edits below.
         let ckind = cd.kind.clone();
         let Some(cdag) = ckind.spec().dag.as_ref() else {
-            return Err(Error::BadParent {
-                child: child_name,
-                parent: parent_label,
-                reason: format!(
+            return Err(bad(
+                self,
+                format!(
                     "type {} has no DAG hookup (only transform-like nodes can be parented)",
                     cd.type_name()
                 ),
-            });
+            ));
         };
         // The links the current parent made, to be replaced.
         let old_parent = self.parent_of(child);
@@ -309,17 +315,15 @@ impl Graph {
             return Ok(());
         };
         let pd = self.data(parent)?;
-        let bad = |reason: String| Error::BadParent {
-            child: child_name.clone(),
-            parent: parent_label.clone(),
-            reason,
-        };
         let pkind = pd.kind.clone();
         let Some(pdag) = pkind.spec().dag.as_ref() else {
-            return Err(bad(format!("type {} has no DAG hookup", pd.type_name())));
+            return Err(bad(self, format!("type {} has no DAG hookup", pd.type_name())));
         };
         if self.is_dag_ancestor(child, parent) {
-            return Err(bad("the parent is the child itself or one of its descendants".into()));
+            return Err(bad(
+                self,
+                "the parent is the child itself or one of its descendants".into(),
+            ));
         }
         let mut new_links = vec![(
             Plug::new(parent, pdag.world_matrix),

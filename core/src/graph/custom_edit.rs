@@ -48,11 +48,7 @@ impl Graph {
         // internal edges of custom groups are ordered by `custom_cycle` below.
         self.next_ord += 1;
         let store = AttrStore {
-            elems: if attr.multi {
-                Elems::new()
-            } else {
-                smallvec::smallvec![Elem::new(0, attr.default.clone())]
-            },
+            elems: Elems::new(),
             ord: self.next_ord,
         };
         let old_kind = std::mem::replace(&mut self.nodes[node].kind, kind);

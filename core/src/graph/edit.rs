@@ -38,12 +38,8 @@ impl Graph {
         let attrs = spec
             .attrs
             .iter()
-            .map(|a| AttrStore {
-                elems: if a.multi {
-                    Elems::new()
-                } else {
-                    smallvec::smallvec![Elem::new(0, a.default.clone())]
-                },
+            .map(|_| AttrStore {
+                elems: Elems::new(),
                 ord: 0,
             })
             .collect();
@@ -217,10 +213,15 @@ impl Graph {
     pub fn stored(&self, plug: Plug) -> Option<Value> {
         let data = self.nodes.get(plug.node)?;
         let store = data.attrs.get(plug.attr.index())?;
-        let e = &store.elems[store.find(plug.elem())?];
+        let value = match store.find(plug.elem()) {
+            Some(k) => &store.elems[k].value,
+            // A single attribute's element is stored once something is (store.rs).
+            None if plug.elem() == 0 && !data.spec().attr(plug.attr).multi => &data.spec().attr(plug.attr).default,
+            None => return None,
+        };
         match plug.component {
-            Some(k) => e.value.component(k).map(Value::Float),
-            None => Some(e.value.clone()),
+            Some(k) => value.component(k).map(Value::Float),
+            None => Some(value.clone()),
         }
     }
 

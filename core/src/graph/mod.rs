@@ -181,6 +181,13 @@ impl Graph {
         }
     }
 
+    /// Makes room for `additional` more nodes (their table and their names), so that
+    /// adding them does not grow and rehash the tables step by step.
+    pub fn reserve_nodes(&mut self, additional: usize) {
+        self.nodes.reserve(additional);
+        self.names.reserve(additional);
+    }
+
     /// The registry the graph's node types come from.
     pub fn registry(&self) -> &Arc<Registry> {
         &self.registry
@@ -270,6 +277,34 @@ impl Graph {
         };
         let parts = parse_plug_path(path).map_err(bad)?;
         let node = self.node_id(parts.node)?;
+        self.plug_of_parts(node, parts, &path)
+    }
+
+    /// The plug `attr` of node `node` (`translate`, `translateX`, `input[2]`,
+    /// `input3D[0].input3Dx`): [`Graph::plug`] for a node already at hand, without looking
+    /// its name up.
+    pub fn node_plug(&self, node: NodeId, attr: &str) -> Result<Plug> {
+        let name = self.data(node)?.name.as_str();
+        match crate::path::parse_attr_path(name, attr) {
+            Ok(parts) => self.plug_of_parts(node, parts, &format_args!("{name}.{attr}")),
+            Err(reason) => Err(Error::BadPlugPath {
+                path: format!("{name}.{attr}"),
+                reason,
+            }),
+        }
+    }
+
+    /// The plug `parts` names on `node` (`path` is the whole path, for errors).
+    fn plug_of_parts(
+        &self,
+        node: NodeId,
+        parts: crate::path::PlugPath<'_>,
+        path: &dyn std::fmt::Display,
+    ) -> Result<Plug> {
+        let bad = |reason: String| Error::BadPlugPath {
+            path: path.to_string(),
+            reason,
+        };
         let data = self.data(node)?;
         let spec = data.spec();
         let (attr, component) = resolve_attr(spec, parts.attr, parts.child).map_err(|e| match e {
@@ -353,11 +388,10 @@ impl Graph {
 
     /// Existing element indices of an attribute (`[0]` for single attributes).
     pub fn elements(&self, node: NodeId, attr: AttrId) -> Vec<u32> {
-        self.nodes
-            .get(node)
-            .and_then(|n| n.attrs.get(attr.index()))
-            .map(|a| a.elems.iter().map(|e| e.index).collect())
-            .unwrap_or_default()
+        let Some((n, a)) = self.nodes.get(node).and_then(|n| Some((n, n.attrs.get(attr.index())?))) else {
+            return Vec::new();
+        };
+        a.view(n.spec().attr(attr)).as_slice().iter().map(|e| e.index).collect()
     }
 
     pub(crate) fn bump(&mut self) -> u64 {

@@ -468,3 +468,68 @@ fn a_handle_from_another_program_is_refused() {
     assert_eq!(inst.get_typed::<f64>(&own), Some(3.0));
     assert_eq!(first.plug_path(&own), "a.input1");
 }
+
+/// Elements stored per attribute of node `name` (internal: single attributes store theirs late).
+fn stored_elements(g: &Graph, name: &str) -> Vec<usize> {
+    let id = g.node_id(name).unwrap();
+    g.nodes[id].attrs.iter().map(|a| a.elems.len()).collect()
+}
+
+/// A single attribute stores its element only once something is stored in it (a set, a
+/// connection at either end, a computed value); until then it reads as its default, lists
+/// element 0, and lazy and compiled evaluation read the same values.
+#[test]
+fn single_attributes_store_their_element_late() {
+    let mut g = graph();
+    g.add_node("add", "a").unwrap();
+    g.add_node("add", "b").unwrap();
+    // input1, input2, output of `add`: nothing stored yet.
+    assert_eq!(stored_elements(&g, "a"), vec![0, 0, 0]);
+    let input2 = g.plug("a.input2").unwrap();
+    assert_eq!(g.stored(input2).and_then(|v| v.as_f64()), Some(0.0), "the default");
+    assert_eq!(g.elements(input2.node, input2.attr), vec![0]);
+    g.check_invariants().unwrap();
+    g.set_path("a.input2", Value::Float(2.0)).unwrap();
+    assert_eq!(stored_elements(&g, "a"), vec![0, 1, 0]);
+    g.connect_path("a.output", "b.input1").unwrap();
+    assert_eq!(stored_elements(&g, "a"), vec![0, 1, 1], "the source end");
+    assert_eq!(stored_elements(&g, "b"), vec![1, 0, 0], "the destination end");
+    g.check_invariants().unwrap();
+    // b.output = (0 + 2) + 0, computed into a stored element.
+    assert_eq!(f(g.get_path("b.output").unwrap()), 2.0);
+    assert_eq!(stored_elements(&g, "b"), vec![1, 0, 1]);
+    assert_eq!(
+        f(g.get_path("b.input2").unwrap()),
+        0.0,
+        "an absent input reads as its default"
+    );
+    assert_eq!(stored_elements(&g, "b"), vec![1, 0, 1], "reading stores nothing");
+    g.check_invariants().unwrap();
+    // The compiled program reads the absent inputs as their defaults too.
+    let fresh = {
+        let mut h = graph();
+        h.add_node("add", "a").unwrap();
+        h.set_path("a.input2", Value::Float(2.0)).unwrap();
+        h
+    };
+    let program = Arc::new(Program::compile(&fresh, &CompileOptions::default()).unwrap());
+    let handle = program.handle("a.output").unwrap();
+    let mut inst = Instance::new(program);
+    inst.evaluate(Time::default()).unwrap();
+    assert_eq!(inst.get(&handle).as_f64(), Some(2.0));
+}
+
+/// `node_plug` finds the same plugs as `plug` on a node at hand, and its errors name the
+/// whole path.
+#[test]
+fn node_plug_matches_plug_paths() {
+    let mut g = graph();
+    let a = g.add_node("add", "a").unwrap();
+    assert_eq!(g.node_plug(a, "input2").unwrap(), g.plug("a.input2").unwrap());
+    let e = g.node_plug(a, "input9").unwrap_err().to_string();
+    assert!(e.contains("input9") && e.contains("add"), "{e}");
+    let e = g.node_plug(a, "input2[").unwrap_err().to_string();
+    assert!(e.contains("a.input2["), "{e}");
+    let e = g.node_plug(a, "input2[0]").unwrap_err().to_string();
+    assert!(e.contains("a.input2[0]") && e.contains("not a multi"), "{e}");
+}

@@ -128,13 +128,28 @@ fn edge_note(origin: EdgeOrigin, flat: &Flat, g: &Graph) -> Option<(Span, String
 /// every edge goes forward when the node-level graph is acyclic (node-level loops are
 /// allowed; they leave some edges backward). Linear in nodes and edges.
 fn node_order(nodes: &[NodeId], edges: impl Iterator<Item = (NodeId, NodeId)>) -> Vec<NodeId> {
-    let index: FastMap<NodeId, usize> = nodes.iter().enumerate().map(|(k, &n)| (n, k)).collect();
-    let mut succ: Vec<Vec<usize>> = vec![Vec::new(); nodes.len()];
-    for (a, b) in edges {
-        if let (Some(&a), Some(&b)) = (index.get(&a), index.get(&b)) {
-            succ[a].push(b);
-        }
+    let mut index: slotmap::SecondaryMap<NodeId, usize> = slotmap::SecondaryMap::with_capacity(nodes.len());
+    for (k, &n) in nodes.iter().enumerate() {
+        index.insert(n, k);
     }
+    let pairs: Vec<(usize, usize)> = edges
+        .filter_map(|(a, b)| Some((*index.get(a)?, *index.get(b)?)))
+        .collect();
+    // Successors in one array, each node's in edge order (`start[v]..start[v + 1]`).
+    let mut start = vec![0usize; nodes.len() + 1];
+    for &(a, _) in &pairs {
+        start[a + 1] += 1;
+    }
+    for v in 0..nodes.len() {
+        start[v + 1] += start[v];
+    }
+    let mut next = start.clone();
+    let mut targets = vec![0usize; pairs.len()];
+    for &(a, b) in &pairs {
+        targets[next[a]] = b;
+        next[a] += 1;
+    }
+    let succ = |v: usize| &targets[start[v]..start[v + 1]];
     let mut visited = vec![false; nodes.len()];
     let mut post = Vec::with_capacity(nodes.len());
     let mut stack: Vec<(usize, usize)> = Vec::new();
@@ -144,7 +159,7 @@ fn node_order(nodes: &[NodeId], edges: impl Iterator<Item = (NodeId, NodeId)>) -
         }
         stack.push((root, 0));
         while let Some((v, k)) = stack.pop() {
-            if let Some(&w) = succ[v].get(k) {
+            if let Some(&w) = succ(v).get(k) {
                 stack.push((v, k + 1));
                 if !std::mem::replace(&mut visited[w], true) {
                     stack.push((w, 0));
@@ -167,7 +182,9 @@ pub(super) fn build_graph(
     hidden: &mut usize,
 ) -> (Graph, Vec<Option<NodeId>>) {
     let mut g = Graph::new(registry.clone());
+    g.reserve_nodes(flat.nodes.len());
     let mut first: FastMap<&str, &FlatNode> = FastMap::default();
+    first.reserve(flat.nodes.len());
     let mut quiet = Quiet {
         broken: flat.suppressed.iter().map(String::as_str).collect(),
         opaque: flat.opaque.is_some(),
@@ -244,10 +261,9 @@ pub(super) fn build_graph(
     // Positions in the topological order by the node-level graph of parents and
     // connections, so that parenting and connecting mostly go forward in it and cost
     // nothing, whatever order the file lists its nodes in.
-    let parent_edges = flat.nodes.iter().zip(&ids).filter_map(|(n, id)| {
-        let (child, (p, _)) = ((*id)?, n.parent.as_ref()?);
-        Some((g.find_node(p)?, child))
-    });
+    // Each node's parent, looked up once (a name lookup in a large graph is a cache miss).
+    let parents: Vec<Option<NodeId>> = flat.nodes.iter().map(|n| g.find_node(&n.parent.as_ref()?.0)).collect();
+    let parent_edges = ids.iter().zip(&parents).filter_map(|(id, p)| Some(((*p)?, (*id)?)));
     let conn_edges = resolved
         .iter()
         .filter_map(|(s, d)| Some((s.as_ref()?.node, d.as_ref()?.node)));
@@ -276,7 +292,7 @@ pub(super) fn build_graph(
         if quiet.broken.contains(p.as_str()) {
             continue;
         }
-        let Some(pid) = g.find_node(p) else {
+        let Some(pid) = parents[k] else {
             if quiet.opaque {
                 *quiet.hidden += 1;
                 continue;
