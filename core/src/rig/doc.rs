@@ -3,7 +3,8 @@
 //! [`read_document`] turns the parsed [`Node`] tree into a [`RigDocument`]
 //! (header, nodes with raw attribute values, connections, component
 //! definitions, `Use`s and `set` overrides), collecting every structural
-//! error. [`print_document`] writes a document back as canonical text.
+//! error; [`read_document_taking`], what the loader uses, moves node field values
+//! out of the tree instead of copying them. [`print_document`] writes a document back as canonical text.
 
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -142,7 +143,9 @@ pub struct RigDocument {
     /// into, so [`save_rig`](super::save_rig) writes the compact fields back.
     pub(crate) expansions: Vec<super::expand::Expansion>,
     /// Filled by the loader: the file's syntax tree with its comments, which
-    /// [`save_rig`](super::save_rig) carries over to the canonical text.
+    /// [`save_rig`](super::save_rig) carries over to the canonical text (node field
+    /// values without comments were moved out of it into `body`, see
+    /// [`read_document_taking`]).
     pub(crate) syntax: Option<super::parse::Node>,
 }
 
