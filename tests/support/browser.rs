@@ -77,6 +77,14 @@ pub struct Browser {
     _profile: PathBuf,
 }
 
+impl Drop for Browser {
+    /// Ends the WebDriver session, which closes Chromium: killing chromedriver alone (its
+    /// `Proc` is dropped after this) left every test's browser processes running.
+    fn drop(&mut self) {
+        let _ = ureq::delete(&self.base).timeout(Duration::from_secs(10)).call();
+    }
+}
+
 impl Browser {
     pub fn start(chromium: &Path, chromedriver: &Path, dir: &Path) -> Browser {
         let port = free_port();
