@@ -100,6 +100,13 @@ impl Graph {
                 backward.len()
             ));
         }
+        if self.connection_total != self.count_connections() {
+            return Err(format!(
+                "the connection count says {}, the plugs hold {}",
+                self.connection_total,
+                self.count_connections()
+            ));
+        }
         Program::compile(self, &CompileOptions::default())
             .map(|_| ())
             .map_err(|e| e.to_string())

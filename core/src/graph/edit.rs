@@ -71,6 +71,16 @@ impl Graph {
                 links.extend(elem_links(here, e));
             }
         }
+        // Connections from the node to itself go with it (not unlinked one by one).
+        let internal: usize = data
+            .attrs
+            .iter()
+            .flat_map(|a| &a.elems)
+            .map(|e| {
+                let comps = e.comp_sources().into_iter().flatten().flatten();
+                e.source().iter().chain(comps).filter(|s| s.node == id).count()
+            })
+            .sum();
         let children: Vec<NodeId> = self
             .nodes
             .iter()
@@ -90,6 +100,7 @@ impl Graph {
         }
         if let Some(n) = self.nodes.remove(id) {
             self.names.remove(&n.name);
+            self.connection_total -= internal;
         }
         self.bump();
         Ok(())

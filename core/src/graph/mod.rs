@@ -147,6 +147,8 @@ pub struct Graph {
     pub(crate) time_changed_at: u64,
     pub(crate) revision: u64,
     pub(crate) stats: EvalStats,
+    /// The number of connections (whole and per-component), kept by `link` and `unlink`.
+    pub(crate) connection_total: usize,
 }
 
 impl std::fmt::Debug for Graph {
@@ -178,6 +180,7 @@ impl Graph {
             time_changed_at: 0,
             revision: 1,
             stats: EvalStats::default(),
+            connection_total: 0,
         }
     }
 
