@@ -169,20 +169,20 @@ impl<'g> Compiler<'g> {
                 plug.elem()
             ))
         };
-        let view = store.view(data.spec().attr(plug.attr));
-        let k = store
+        store
             .position(plug.elem(), data.spec().attr(plug.attr))
             .ok_or_else(missing)?;
+        // `None` for a single attribute's absent element: its default, unconnected.
+        let e = store.find(plug.elem()).map(|k| &store.elems[k]);
         let key = self.element(plug).ok_or_else(missing)?;
         let whole = if let Some(b) = self.resolved[key] {
             b
         } else {
-            let e = &view.as_slice()[k];
             let b = if self.outputs[key] != NO_SLOT {
                 Binding::Slot(self.outputs[key])
-            } else if let Some(src) = e.source() {
+            } else if let Some(src) = e.and_then(|e| e.source()) {
                 self.binding_of(src, depth + 1)?
-            } else if let Some(cs) = e.comp_sources().copied() {
+            } else if let Some(cs) = e.and_then(|e| e.comp_sources()).copied() {
                 let own = self.own[key];
                 let mut comps = [None; 3];
                 for (k, s) in cs.iter().enumerate() {
@@ -232,10 +232,11 @@ impl<'g> Compiler<'g> {
             let spec = d.spec();
             for (a, store) in d.attrs.iter().enumerate() {
                 let output = spec.attrs[a].direction == Direction::Output;
-                let view = store.view(&spec.attrs[a]);
-                elements += view.as_slice().len();
-                for e in view.as_slice().iter().filter(|e| output || e.source().is_none()) {
-                    counts[Class::of(&e.value) as usize] += 1;
+                for e in store.refs(&spec.attrs[a]) {
+                    elements += 1;
+                    if output || e.source.is_none() {
+                        counts[Class::of(e.value) as usize] += 1;
+                    }
                 }
             }
         }
@@ -252,13 +253,13 @@ impl<'g> Compiler<'g> {
                 let attr = AttrId(a as u16);
                 let aspec = spec.attr(attr);
                 self.elem_base.push(self.own.len() as u32);
-                for e in store.view(aspec).as_slice() {
+                for e in store.refs(aspec) {
                     let (mut own, mut output) = (NO_SLOT, NO_SLOT);
                     if aspec.direction == Direction::Output {
                         let group = spec.group_of(attr).unwrap_or(0);
                         output = self.initial.push(e.value.clone());
                         self.output_slot_producer[output as usize] = Some((ni as u32, group));
-                    } else if e.source().is_none() {
+                    } else if e.source.is_none() {
                         own = self.initial.push(e.value.clone());
                     }
                     self.own.push(own);
@@ -276,13 +277,13 @@ impl<'g> Compiler<'g> {
             for (a, store) in data.attrs.iter().enumerate() {
                 let first = elems.len() as u32;
                 let multi = spec.attrs[a].multi;
-                for e in store.view(&spec.attrs[a]).as_slice() {
+                for e in store.refs(&spec.attrs[a]) {
                     let plug = Plug::element(id, AttrId(a as u16), multi, e.index);
                     let binding = self.binding_of(plug, 0)?;
                     elems.push(ElemBinding {
                         index: e.index,
                         binding,
-                        driven: e.source().is_some(),
+                        driven: e.source.is_some(),
                     });
                 }
                 let ab = &mut attr_bindings[(self.attr_base[ni] + a as u32) as usize];

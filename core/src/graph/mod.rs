@@ -394,7 +394,7 @@ impl Graph {
         let Some((n, a)) = self.nodes.get(node).and_then(|n| Some((n, n.attrs.get(attr.index())?))) else {
             return Vec::new();
         };
-        a.view(n.spec().attr(attr)).as_slice().iter().map(|e| e.index).collect()
+        a.refs(n.spec().attr(attr)).map(|e| e.index).collect()
     }
 
     pub(crate) fn bump(&mut self) -> u64 {

@@ -108,7 +108,7 @@ impl AttrStore {
         self.elems.binary_search_by_key(&index, |e| e.index).ok()
     }
 
-    /// Position of element `index` among the elements as [`AttrStore::view`] lists them:
+    /// Position of element `index` among the elements as [`AttrStore::refs`] lists them:
     /// a single attribute's absent element is at 0.
     pub fn position(&self, index: u32, attr: &AttrSpec) -> Option<usize> {
         match self.find(index) {
@@ -117,15 +117,21 @@ impl AttrStore {
         }
     }
 
-    /// The elements with a single attribute's absent element standing in as its
-    /// default (a value, no connections, never changed): what every element of an
-    /// attribute is, for code that needs all of them (compiling, checking).
-    pub fn view(&self, attr: &AttrSpec) -> ElemsView<'_> {
-        if self.elems.is_empty() && !attr.multi {
-            ElemsView::Default(Elem::new(0, attr.default.clone()))
-        } else {
-            ElemsView::Stored(&self.elems)
-        }
+    /// Every element as code that needs all of them reads it (compiling, listing), a
+    /// single attribute's absent element as its default (no connection), without copying
+    /// any value.
+    pub fn refs<'a>(&'a self, attr: &'a AttrSpec) -> impl Iterator<Item = ElemRef<'a>> + 'a {
+        let absent = self.elems.is_empty() && !attr.multi;
+        let stored = self.elems.iter().map(|e| ElemRef {
+            index: e.index,
+            value: &e.value,
+            source: e.source(),
+        });
+        stored.chain(absent.then_some(ElemRef {
+            index: 0,
+            value: &attr.default,
+            source: None,
+        }))
     }
 
     /// Position of the element `index`, inserting it with `value` when missing.
@@ -146,22 +152,14 @@ impl AttrStore {
     }
 }
 
-/// An attribute's elements as [`AttrStore::view`] gives them.
-pub(crate) enum ElemsView<'a> {
-    /// The stored elements.
-    Stored(&'a [Elem]),
-    /// A single attribute's absent element, made from its default.
-    Default(Elem),
-}
-
-impl ElemsView<'_> {
-    /// The elements, in index order.
-    pub fn as_slice(&self) -> &[Elem] {
-        match self {
-            ElemsView::Stored(s) => s,
-            ElemsView::Default(e) => std::slice::from_ref(e),
-        }
-    }
+/// An element as [`AttrStore::refs`] gives it.
+pub(crate) struct ElemRef<'a> {
+    /// Logical index (0 for single attributes).
+    pub index: u32,
+    /// The stored value, or the attribute's default for an absent element.
+    pub value: &'a Value,
+    /// Whole-plug source connection.
+    pub source: Option<Plug>,
 }
 
 /// Dirty/verification state of one compute group of one node.
