@@ -279,18 +279,8 @@ impl Reader<'_> {
     /// The body fields `fields` (from [`Self::field_indices`]) of struct `n`.
     fn body(&mut self, n: &mut Node, fields: &[usize]) -> Body {
         let mut b = Body::default();
-        let Ast::Group { items, .. } = &mut n.kind else {
-            return b;
-        };
-        for &i in fields {
-            let Item {
-                key: Some((k, _)),
-                value: v,
-            } = &mut items[i]
-            else {
-                continue;
-            };
-            match k.as_str() {
+        for (k, v) in named_items_mut(n, fields) {
+            match k {
                 "nodes" => b.nodes = self.nodes(v),
                 "connections" => b.connections = self.connections(v),
                 "uses" => b.uses = self.uses(v),
@@ -613,6 +603,20 @@ impl Reader<'_> {
     }
 }
 
+/// The named entries at positions `fields` (ascending, from `Reader::field_indices`) of
+/// group `n`, as `(name, value)`, values mutable so the document can take them.
+fn named_items_mut<'a>(n: &'a mut Node, fields: &'a [usize]) -> impl Iterator<Item = (&'a str, &'a mut Node)> {
+    let items: &mut [Item] = match &mut n.kind {
+        Ast::Group { items, .. } => items,
+        _ => &mut [],
+    };
+    items
+        .iter_mut()
+        .enumerate()
+        .filter(move |(i, _)| fields.binary_search(i).is_ok())
+        .filter_map(|(_, Item { key, value })| Some((key.as_ref()?.0.as_str(), value)))
+}
+
 /// A node field's value for the document. The tree keeps what `sinew fmt` reads of it
 /// ([`super::fmt_comments`]): a value with no comment inside or around it is only asked
 /// whether it has comments, so it moves out of the tree, leaving `false` (with its span
@@ -657,18 +661,8 @@ pub fn read_document_taking(root: &mut Node, path: &Arc<PathBuf>, diags: &mut Di
         }
     }
     let fields = r.field_indices(root, &RIG_FIELDS, "Rig");
-    let Ast::Group { items, .. } = &mut root.kind else {
-        return doc;
-    };
-    for &i in &fields {
-        let Item {
-            key: Some((k, _)),
-            value: v,
-        } = &mut items[i]
-        else {
-            continue;
-        };
-        match k.as_str() {
+    for (k, v) in named_items_mut(root, &fields) {
+        match k {
             "name" => doc.name = r.string(v, "name"),
             "fps" => match v.kind.as_f64() {
                 Some(x) if x > 0.0 => doc.fps = Some(x),
