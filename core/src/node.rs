@@ -283,14 +283,15 @@ impl<'a> ComputeContext<'a> {
 
     fn read_elem(&self, id: AttrId, k: usize) -> Option<Value> {
         match &self.lazy {
-            Some(io) => match io.attrs.get(id.index())?.elems.get(k) {
-                Some(e) => Some(e.value.clone()),
-                // A single attribute's element is stored once something is (graph/store.rs).
-                None => {
-                    let a = io.spec.attrs.get(id.index())?;
-                    (k == 0 && !a.multi).then(|| a.default.clone())
+            Some(io) => {
+                let store = io.attrs.get(id.index())?;
+                match store.elems.get(k) {
+                    Some(e) => Some(e.value.clone()),
+                    // A single attribute's element is stored once something is (graph/store.rs).
+                    None if k == 0 => store.value(0, io.spec.attrs.get(id.index())?).cloned(),
+                    None => None,
                 }
-            },
+            }
             None => Some(self.tables.resolve(self.slots, self.compiled_elem(id, k)?.binding)),
         }
     }

@@ -169,12 +169,10 @@ impl<'g> Compiler<'g> {
                 plug.elem()
             ))
         };
-        store
-            .position(plug.elem(), data.spec().attr(plug.attr))
-            .ok_or_else(missing)?;
-        // `None` for a single attribute's absent element: its default, unconnected.
-        let e = store.find(plug.elem()).map(|k| &store.elems[k]);
+        // `element` also finds a single attribute's absent element (its default, unconnected),
+        // for which `e` is `None`.
         let key = self.element(plug).ok_or_else(missing)?;
+        let e = store.find(plug.elem()).map(|k| &store.elems[k]);
         let whole = if let Some(b) = self.resolved[key] {
             b
         } else {

@@ -224,12 +224,8 @@ impl Graph {
     pub fn stored(&self, plug: Plug) -> Option<Value> {
         let data = self.nodes.get(plug.node)?;
         let store = data.attrs.get(plug.attr.index())?;
-        let value = match store.find(plug.elem()) {
-            Some(k) => &store.elems[k].value,
-            // A single attribute's element is stored once something is (store.rs).
-            None if plug.elem() == 0 && !data.spec().attr(plug.attr).multi => &data.spec().attr(plug.attr).default,
-            None => return None,
-        };
+        // A single attribute's element is stored once something is (store.rs).
+        let value = store.value(plug.elem(), data.spec().attrs.get(plug.attr.index())?)?;
         match plug.component {
             Some(k) => value.component(k).map(Value::Float),
             None => Some(value.clone()),

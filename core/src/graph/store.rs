@@ -108,20 +108,33 @@ impl AttrStore {
         self.elems.binary_search_by_key(&index, |e| e.index).ok()
     }
 
+    /// Whether element `index` is a single attribute's element not stored yet (it reads
+    /// as the attribute's default).
+    pub fn is_absent_single(&self, index: u32, attr: &AttrSpec) -> bool {
+        index == 0 && !attr.multi && self.elems.is_empty()
+    }
+
+    /// The value of element `index`: the stored one, or the default of a single
+    /// attribute's absent element; `None` for a multi's missing element.
+    pub fn value<'a>(&'a self, index: u32, attr: &'a AttrSpec) -> Option<&'a Value> {
+        match self.find(index) {
+            Some(k) => Some(&self.elems[k].value),
+            None => self.is_absent_single(index, attr).then_some(&attr.default),
+        }
+    }
+
     /// Position of element `index` among the elements as [`AttrStore::refs`] lists them:
     /// a single attribute's absent element is at 0.
     pub fn position(&self, index: u32, attr: &AttrSpec) -> Option<usize> {
-        match self.find(index) {
-            None if index == 0 && !attr.multi && self.elems.is_empty() => Some(0),
-            k => k,
-        }
+        self.find(index)
+            .or_else(|| self.is_absent_single(index, attr).then_some(0))
     }
 
     /// Every element as code that needs all of them reads it (compiling, listing), a
     /// single attribute's absent element as its default (no connection), without copying
     /// any value.
     pub fn refs<'a>(&'a self, attr: &'a AttrSpec) -> impl Iterator<Item = ElemRef<'a>> + 'a {
-        let absent = self.elems.is_empty() && !attr.multi;
+        let absent = self.is_absent_single(0, attr);
         let stored = self.elems.iter().map(|e| ElemRef {
             index: e.index,
             value: &e.value,
