@@ -209,10 +209,14 @@ impl Ast {
 
     /// The positional items of an unnamed tuple.
     pub fn tuple_items(&self) -> Option<Vec<&Node>> {
+        Some(self.tuple()?.iter().map(|i| &i.value).collect())
+    }
+
+    /// The items of an unnamed tuple, as written (what [`Ast::tuple_items`] lists, without
+    /// collecting them).
+    pub fn tuple(&self) -> Option<&[Item]> {
         match self {
-            Ast::Group { name: None, items } if items.iter().all(|i| i.key.is_none()) => {
-                Some(items.iter().map(|i| &i.value).collect())
-            }
+            Ast::Group { name: None, items } if items.iter().all(|i| i.key.is_none()) => Some(items),
             _ => None,
         }
     }

@@ -72,11 +72,7 @@ pub(super) fn number(n: &Node, what: &str) -> Result<f64, Diagnostic> {
 }
 
 pub(super) fn numbers<const N: usize>(n: &Node, what: &str, ty: AttrType) -> Result<[f64; N], Diagnostic> {
-    // The items of an unnamed tuple (as `Ast::tuple_items`, without collecting them).
-    let items = match &n.kind {
-        Ast::Group { name: None, items } if items.iter().all(|i| i.key.is_none()) => items,
-        _ => return Err(wrong(n, what, ty, None)),
-    };
+    let items = n.kind.tuple().ok_or_else(|| wrong(n, what, ty, None))?;
     if items.len() != N {
         return Err(Diagnostic::new(
             n.span.clone(),
