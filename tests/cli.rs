@@ -452,10 +452,10 @@ fn corrective_inverts_a_sculpt_through_the_skin() {
     )
     .unwrap();
     let out = dir.join("fixed.ron");
-    let run = |o: &std::path::Path, bs: &str, s: &std::path::Path| {
+    let run_on = |rig: &str, o: &std::path::Path, bs: &str, s: &std::path::Path| {
         sinew(&[
             "corrective",
-            r,
+            rig,
             "--blend-shape",
             bs,
             "--target",
@@ -468,6 +468,7 @@ fn corrective_inverts_a_sculpt_through_the_skin() {
             o.to_str().unwrap(),
         ])
     };
+    let run = |o: &std::path::Path, bs: &str, s: &std::path::Path| run_on(r, o, bs, s);
     let (code, msg, err) = run(&out, "bs", &sculpt);
     assert_eq!(code, 0, "{err}");
     assert!(
@@ -534,34 +535,10 @@ fn corrective_inverts_a_sculpt_through_the_skin() {
     std::fs::write(&main, r#"Rig(uses: [Use(file: "rig.ron")])"#).unwrap();
     let elsewhere = dir.join("sub").join("fixed.ron");
     std::fs::create_dir_all(elsewhere.parent().unwrap()).unwrap();
-    let (code, _, err) = sinew(&[
-        "corrective",
-        main.to_str().unwrap(),
-        "--blend-shape",
-        "bs",
-        "--target",
-        "0",
-        "--sculpt",
-        sculpt.to_str().unwrap(),
-        "-o",
-        elsewhere.to_str().unwrap(),
-    ]);
+    let (code, _, err) = run_on(main.to_str().unwrap(), &elsewhere, "bs", &sculpt);
     assert!(code == 1 && err.contains("same folder"), "{err}");
     let beside = dir.join("main_fixed.ron");
-    let (code, _, err) = sinew(&[
-        "corrective",
-        main.to_str().unwrap(),
-        "--blend-shape",
-        "bs",
-        "--target",
-        "0",
-        "--frame",
-        "10",
-        "--sculpt",
-        sculpt.to_str().unwrap(),
-        "-o",
-        beside.to_str().unwrap(),
-    ]);
+    let (code, _, err) = run_on(main.to_str().unwrap(), &beside, "bs", &sculpt);
     assert_eq!(code, 0, "{err}");
     let text = std::fs::read_to_string(&beside).unwrap();
     assert!(text.contains(r#""bs.targetIndices[0]": [1]"#), "a set override: {text}");
